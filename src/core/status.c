@@ -1,0 +1,21 @@
+/* SPDX-License-Identifier: MIT */
+#include "bumpgrad/common.h"
+
+const char *bg_status_string(bg_status s)
+{
+    switch (s) {
+    case BG_OK: return "ok";
+    case BG_ERR_INVALID_ARGUMENT: return "invalid argument";
+    case BG_ERR_NULL_POINTER: return "null pointer";
+    case BG_ERR_UNSUPPORTED_ISA: return "instruction set not supported by this CPU";
+    case BG_ERR_OUT_OF_MEMORY: return "out of memory";
+    case BG_ERR_IO: return "input/output error";
+    case BG_ERR_FORMAT: return "malformed input";
+    }
+    return "unknown status";
+}
+
+const char *bg_version_string(void)
+{
+    return "0.1.0";
+}

@@ -1,0 +1,123 @@
+/* SPDX-License-Identifier: MIT */
+/* Public surface-gradient entry points (Mikkelsen 2010, eq. 2 and 4, Listing 3).
+ * The perturbations run the kernel template (one lane here), so single points,
+ * batches and every ISA share one implementation of the degenerate-input rules. */
+#include <math.h>
+#include "bumpgrad/surfgrad.h"
+#include "kernels/kernels.h"
+
+bg_vec3 bg_perturb(bg_perturb_method method, bg_vec3 n, bg_vec3 g)
+{
+    bg_vec3 r;
+    bg_kernels_c.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
+    return r;
+}
+
+bg_dvec3 bg_perturbd(bg_perturb_method method, bg_dvec3 n, bg_dvec3 g)
+{
+    bg_dvec3 r;
+    bg_kernels_c64.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
+    return r;
+}
+
+bg_vec3 bg_perturb_normal(bg_vec3 n, bg_vec3 g) { return bg_perturb(BG_PERTURB_SURFGRAD, n, g); }
+bg_dvec3 bg_perturb_normald(bg_dvec3 n, bg_dvec3 g) { return bg_perturbd(BG_PERTURB_SURFGRAD, n, g); }
+bg_vec3 bg_perturb_normal_additive(bg_vec3 n, bg_vec3 g) { return bg_perturb(BG_PERTURB_ADDITIVE, n, g); }
+bg_dvec3 bg_perturb_normal_additived(bg_dvec3 n, bg_dvec3 g) { return bg_perturbd(BG_PERTURB_ADDITIVE, n, g); }
+
+/* grad_S h = g - n (n.g) (eq. 2), with n normalized through the same scaled
+ * normalization as the perturbation. Computed in double then rounded once. */
+bg_dvec3 bg_surface_gradientd(bg_dvec3 n, bg_dvec3 g)
+{
+    bg_dvec3 zero = {0, 0, 0};
+    double m = fmax(fmax(fabs(n.x), fabs(n.y)), fabs(n.z));
+    if (!(m > 0) || !isfinite(n.x) || !isfinite(n.y) || !isfinite(n.z) || !isfinite(g.x) ||
+        !isfinite(g.y) || !isfinite(g.z))
+        return zero;
+    n.x /= m, n.y /= m, n.z /= m;
+    double l = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+    n.x /= l, n.y /= l, n.z /= l;
+    double d = n.x * g.x + n.y * g.y + n.z * g.z;
+    bg_dvec3 r = {g.x - n.x * d, g.y - n.y * d, g.z - n.z * d};
+    return r;
+}
+
+bg_vec3 bg_surface_gradient(bg_vec3 n, bg_vec3 g)
+{
+    bg_dvec3 nd = {n.x, n.y, n.z}, gd = {g.x, g.y, g.z};
+    bg_dvec3 r = bg_surface_gradientd(nd, gd);
+    bg_vec3 o = {(float)r.x, (float)r.y, (float)r.z};
+    return o;
+}
+
+double bg_angle_degd(bg_dvec3 a, bg_dvec3 b)
+{
+    double cx = a.y * b.z - a.z * b.y, cy = a.z * b.x - a.x * b.z, cz = a.x * b.y - a.y * b.x;
+    double s = sqrt(cx * cx + cy * cy + cz * cz), c = a.x * b.x + a.y * b.y + a.z * b.z;
+    double la = a.x * a.x + a.y * a.y + a.z * a.z, lb = b.x * b.x + b.y * b.y + b.z * b.z;
+    if (!(la > 0) || !(lb > 0) || !isfinite(la) || !isfinite(lb))
+        return NAN;
+    return atan2(s, c) * (180.0 / 3.14159265358979323846);
+}
+
+double bg_angle_deg(bg_vec3 a, bg_vec3 b)
+{
+    bg_dvec3 ad = {a.x, a.y, a.z}, bd = {b.x, b.y, b.z};
+    return bg_angle_degd(ad, bd);
+}
+
+void bg_perturb_batch(bg_perturb_method method, const float *nx, const float *ny, const float *nz,
+                      const float *gx, const float *gy, const float *gz, size_t n, float *ox,
+                      float *oy, float *oz)
+{
+    bg_kernels()->perturb(method, nx, ny, nz, gx, gy, gz, n, ox, oy, oz);
+}
+
+bg_height bg_height_default(void)
+{
+    bg_height h;
+    h.fractal = bg_fractal_default(BG_FUNC_TURBULENCE);
+    h.amplitude = 0.1f;
+    h.frequency = 1.0f;
+    h.gradient = BG_GRADIENT_ANALYTIC;
+    h.step = 0.0f;
+    return h;
+}
+
+bg_status bg_height_validate(const bg_height *h)
+{
+    if (!h)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_fractal_validate(&h->fractal);
+    if (s != BG_OK)
+        return s;
+    if (!isfinite(h->amplitude) || !isfinite(h->frequency) || !(h->step >= 0) ||
+        !isfinite(h->step))
+        return BG_ERR_INVALID_ARGUMENT;
+    if (h->gradient != BG_GRADIENT_ANALYTIC && h->gradient != BG_GRADIENT_CENTRAL)
+        return BG_ERR_INVALID_ARGUMENT;
+    return BG_OK;
+}
+
+float bg_height_eval(const bg_height *h, bg_vec3 p, bg_vec3 *grad)
+{
+    /* Same arithmetic, in the same order, as the fused kernel (q = f p, grad = (A f) F'). */
+    float q[3] = {p.x * h->frequency, p.y * h->frequency, p.z * h->frequency};
+    float v, g[3];
+    if (h->gradient == BG_GRADIENT_CENTRAL)
+        bg_kernels_c.fractal3_grad_central(&h->fractal, h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP,
+                                           &q[0], &q[1], &q[2], 1, &v, &g[0], &g[1], &g[2]);
+    else
+        bg_kernels_c.fractal3_grad(&h->fractal, &q[0], &q[1], &q[2], 1, &v, &g[0], &g[1], &g[2]);
+    float af = h->amplitude * h->frequency;
+    grad->x = af * g[0], grad->y = af * g[1], grad->z = af * g[2];
+    return h->amplitude * v;
+}
+
+void bg_perturb_height_batch(const bg_height *h, bg_perturb_method method, const float *px,
+                             const float *py, const float *pz, const float *nx, const float *ny,
+                             const float *nz, size_t n, float *height, float *ox, float *oy,
+                             float *oz)
+{
+    bg_kernels()->perturb_height(h, method, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+}

@@ -1,0 +1,396 @@
+/* SPDX-License-Identifier: MIT */
+/* The one source of every bumpgrad kernel: Perlin's improved noise with its
+ * analytic gradient, fBm/turbulence, central differences, the surface-gradient
+ * perturbation and the fused height -> normal path. It is compiled once per ISA
+ * against the vocabulary chosen in vec.h; the scalar kernel (_c) and the double
+ * kernel (_c64) are this same file with one lane. Nothing here may depend on the
+ * lane count except the loop stride, so every ISA gives the same bits. */
+#include "vec.h"
+
+/* ---- Perlin's improved noise (2002 reference) ------------------------------ */
+
+/* fade(t) = 6t^5 - 15t^4 + 10t^3, evaluated in the reference's order. */
+static inline vf fade(vf t)
+{
+    vf inner = vf_add(vf_mul(t, vf_sub(vf_mul(t, vf_set1(6)), vf_set1(15))), vf_set1(10));
+    return vf_mul(vf_mul(vf_mul(t, t), t), inner);
+}
+
+/* fade'(t) = 30 t^2 (t - 1)^2, written as 30t^2 (t(t - 2) + 1). */
+static inline vf dfade(vf t)
+{
+    vf q = vf_add(vf_mul(t, vf_sub(t, vf_set1(2))), vf_set1(1));
+    return vf_mul(vf_mul(vf_set1(30), vf_mul(t, t)), q);
+}
+
+/* One corner: the value grad(hash, dx, dy, dz) of the reference and, for the
+ * analytic gradient, the corner's gradient vector. The reference picks
+ * u = h<8 ? x : y, v = h<4 ? y : (h==12||h==14 ? x : z) and returns +-u +-v; the
+ * two picked axes always differ, so the vector has two components +-1 and one 0,
+ * and gx*dx + gy*dy + gz*dz is the reference sum (the zero term adds +-0). */
+typedef struct corner {
+    vf v, gx, gy, gz;
+} corner;
+
+static inline corner grad_corner(vi hash, vf dx, vf dy, vf dz)
+{
+    vi h = vi_and(hash, vi_set1(15));
+    vm u_is_x = vi_lt(h, vi_set1(8));
+    vm v_is_y = vi_lt(h, vi_set1(4));
+    vm v_is_x = vm_and(vm_not(v_is_y), vm_or(vi_eq(h, vi_set1(12)), vi_eq(h, vi_set1(14))));
+    vm v_is_z = vm_and(vm_not(v_is_y), vm_not(v_is_x));
+    vf su = vf_sel(vi_test(h, vi_set1(1)), vf_set1(-1), vf_set1(1));
+    vf sv = vf_sel(vi_test(h, vi_set1(2)), vf_set1(-1), vf_set1(1));
+    vf zero = vf_set1(0);
+    corner c;
+    c.gx = vf_sel(u_is_x, su, vf_sel(v_is_x, sv, zero));
+    c.gy = vf_sel(u_is_x, vf_sel(v_is_y, sv, zero), su);
+    c.gz = vf_sel(v_is_z, sv, zero);
+    c.v = vf_add(vf_add(vf_mul(c.gx, dx), vf_mul(c.gy, dy)), vf_mul(c.gz, dz));
+    return c;
+}
+
+/* lerp(t, a, b) = a + t (b - a), the reference's form, carried with its gradient:
+ * t depends on one axis only (dt along that axis). */
+static inline corner lerp_x(vf t, vf dt, corner a, corner b)
+{
+    corner r;
+    vf dv = vf_sub(b.v, a.v);
+    r.v = vf_add(a.v, vf_mul(t, dv));
+    r.gx = vf_add(vf_add(a.gx, vf_mul(t, vf_sub(b.gx, a.gx))), vf_mul(dt, dv));
+    r.gy = vf_add(a.gy, vf_mul(t, vf_sub(b.gy, a.gy)));
+    r.gz = vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz)));
+    return r;
+}
+static inline corner lerp_y(vf t, vf dt, corner a, corner b)
+{
+    corner r;
+    vf dv = vf_sub(b.v, a.v);
+    r.v = vf_add(a.v, vf_mul(t, dv));
+    r.gx = vf_add(a.gx, vf_mul(t, vf_sub(b.gx, a.gx)));
+    r.gy = vf_add(vf_add(a.gy, vf_mul(t, vf_sub(b.gy, a.gy))), vf_mul(dt, dv));
+    r.gz = vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz)));
+    return r;
+}
+static inline corner lerp_z(vf t, vf dt, corner a, corner b)
+{
+    corner r;
+    vf dv = vf_sub(b.v, a.v);
+    r.v = vf_add(a.v, vf_mul(t, dv));
+    r.gx = vf_add(a.gx, vf_mul(t, vf_sub(b.gx, a.gx)));
+    r.gy = vf_add(a.gy, vf_mul(t, vf_sub(b.gy, a.gy)));
+    r.gz = vf_add(vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz))), vf_mul(dt, dv));
+    return r;
+}
+
+/* Split a coordinate into its lattice cell modulo 256 and its fraction.
+ * The cell is reduced in floating point (cell - 256 floor(cell / 256), exact for
+ * every finite value since /256 is a power of two) before the integer conversion,
+ * so large coordinates neither overflow nor lose the period. NaN/Inf give a NaN
+ * fraction (and so a NaN result) and cell 0, so no out-of-range index is formed. */
+static inline vf lattice(vf x, vi *cell)
+{
+    vf fl = vf_floor(x);
+    vf c = vf_sub(fl, vf_mul(vf_set1(256), vf_floor(vf_mul(fl, vf_set1((bg_real)(1.0 / 256))))));
+    vm ok = vm_and(vf_le(vf_set1(0), c), vf_lt(c, vf_set1(256)));
+    *cell = vi_from_vf(vf_sel(ok, c, vf_set1(0)));
+    return vf_sub(x, fl);
+}
+
+/* Improved noise at one vector of points; the gradient only when `want_grad`
+ * (a constant after inlining, so the value-only kernel does no gradient work). */
+static inline corner noise_vec(vf x, vf y, vf z, int want_grad)
+{
+    vi X, Y, Z;
+    vf fx = lattice(x, &X), fy = lattice(y, &Y), fz = lattice(z, &Z);
+    vf u = fade(fx), v = fade(fy), w = fade(fz);
+
+    /* The reference's hash chain: A = p[X]+Y, AA = p[A]+Z, ... (12 lookups). */
+    vi one = vi_set1(1);
+    vi A = vi_add(vi_perm(X), Y), B = vi_add(vi_perm(vi_add(X, one)), Y);
+    vi AA = vi_add(vi_perm(A), Z), AB = vi_add(vi_perm(vi_add(A, one)), Z);
+    vi BA = vi_add(vi_perm(B), Z), BB = vi_add(vi_perm(vi_add(B, one)), Z);
+
+    vf x1 = vf_sub(fx, vf_set1(1)), y1 = vf_sub(fy, vf_set1(1)), z1 = vf_sub(fz, vf_set1(1));
+    corner c000 = grad_corner(vi_perm(AA), fx, fy, fz);
+    corner c100 = grad_corner(vi_perm(BA), x1, fy, fz);
+    corner c010 = grad_corner(vi_perm(AB), fx, y1, fz);
+    corner c110 = grad_corner(vi_perm(BB), x1, y1, fz);
+    corner c001 = grad_corner(vi_perm(vi_add(AA, one)), fx, fy, z1);
+    corner c101 = grad_corner(vi_perm(vi_add(BA, one)), x1, fy, z1);
+    corner c011 = grad_corner(vi_perm(vi_add(AB, one)), fx, y1, z1);
+    corner c111 = grad_corner(vi_perm(vi_add(BB, one)), x1, y1, z1);
+
+    if (!want_grad) {
+        /* lerp(w, lerp(v, lerp(u, ..), lerp(u, ..)), lerp(v, ..)) exactly as the reference. */
+        corner r;
+        vf a0 = vf_add(c000.v, vf_mul(u, vf_sub(c100.v, c000.v)));
+        vf a1 = vf_add(c010.v, vf_mul(u, vf_sub(c110.v, c010.v)));
+        vf a2 = vf_add(c001.v, vf_mul(u, vf_sub(c101.v, c001.v)));
+        vf a3 = vf_add(c011.v, vf_mul(u, vf_sub(c111.v, c011.v)));
+        vf b0 = vf_add(a0, vf_mul(v, vf_sub(a1, a0)));
+        vf b1 = vf_add(a2, vf_mul(v, vf_sub(a3, a2)));
+        r.v = vf_add(b0, vf_mul(w, vf_sub(b1, b0)));
+        r.gx = r.gy = r.gz = vf_set1(0);
+        return r;
+    }
+    vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
+    corner a0 = lerp_x(u, du, c000, c100), a1 = lerp_x(u, du, c010, c110);
+    corner a2 = lerp_x(u, du, c001, c101), a3 = lerp_x(u, du, c011, c111);
+    corner b0 = lerp_y(v, dv, a0, a1), b1 = lerp_y(v, dv, a2, a3);
+    return lerp_z(w, dw, b0, b1);
+}
+
+/* ---- fBm and turbulence (Perlin 1985) -------------------------------------- */
+
+/* Octave i samples noise at lacunarity^i p with weight gain^i; both factors are
+ * built by repeated multiplication in bg_real, identical on every ISA. */
+static inline corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
+{
+    if (f->function == BG_FUNC_NOISE)
+        return noise_vec(x, y, z, want_grad);
+    int turb = f->function == BG_FUNC_TURBULENCE;
+    bg_real amp = 1, freq = 1;
+    const bg_real gain = (bg_real)f->gain, lac = (bg_real)f->lacunarity;
+    corner s;
+    s.v = s.gx = s.gy = s.gz = vf_set1(0);
+    for (int i = 0; i < f->octaves; i++) {
+        vf fq = vf_set1(freq);
+        corner o = noise_vec(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq), want_grad);
+        vf a = vf_set1(amp);
+        if (turb) {
+            /* d|n| = sign(n) dn, with sign(0) = +1 (the crease: docs/STABILITY.md). */
+            vm neg = vf_lt(o.v, vf_set1(0));
+            s.v = vf_add(s.v, vf_mul(a, vf_abs(o.v)));
+            if (want_grad) {
+                vf af = vf_set1(amp * freq);
+                af = vf_sel(neg, vf_neg(af), af);
+                s.gx = vf_add(s.gx, vf_mul(af, o.gx));
+                s.gy = vf_add(s.gy, vf_mul(af, o.gy));
+                s.gz = vf_add(s.gz, vf_mul(af, o.gz));
+            }
+        } else {
+            s.v = vf_add(s.v, vf_mul(a, o.v));
+            if (want_grad) {
+                vf af = vf_set1(amp * freq);
+                s.gx = vf_add(s.gx, vf_mul(af, o.gx));
+                s.gy = vf_add(s.gy, vf_mul(af, o.gy));
+                s.gz = vf_add(s.gz, vf_mul(af, o.gz));
+            }
+        }
+        amp *= gain;
+        freq *= lac;
+    }
+    return s;
+}
+
+/* Central differences: (F(x+h) - F(x-h)) / ((x+h) - (x-h)), dividing by the step
+ * actually taken, which differs from 2h once x is large (rounding of x +- h). */
+static inline corner fractal_central_vec(const bg_fractal *f, vf h, vf x, vf y, vf z)
+{
+    corner r = fractal_vec(f, x, y, z, 0);
+    vf xp = vf_add(x, h), xm = vf_sub(x, h);
+    vf yp = vf_add(y, h), ym = vf_sub(y, h);
+    vf zp = vf_add(z, h), zm = vf_sub(z, h);
+    r.gx = vf_div(vf_sub(fractal_vec(f, xp, y, z, 0).v, fractal_vec(f, xm, y, z, 0).v),
+                  vf_sub(xp, xm));
+    r.gy = vf_div(vf_sub(fractal_vec(f, x, yp, z, 0).v, fractal_vec(f, x, ym, z, 0).v),
+                  vf_sub(yp, ym));
+    r.gz = vf_div(vf_sub(fractal_vec(f, x, y, zp, 0).v, fractal_vec(f, x, y, zm, 0).v),
+                  vf_sub(zp, zm));
+    return r;
+}
+
+/* ---- The surface gradient and the perturbed normal ------------------------- */
+
+typedef struct v3 {
+    vf x, y, z;
+} v3;
+
+/* n' = normalize(n - grad_S h) with grad_S h = g - n (n.g) (eq. 2 and 4, Listing 3),
+ * or the additive forms normalize(n -+ g). The degenerate-input rules are the ones
+ * documented in surfgrad.h; they are selects, so every lane follows them alike. */
+static inline v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
+{
+    vf zero = vf_set1(0), one = vf_set1(1), big = vf_set1(BG_REAL_MAX);
+    /* Normalize n with a pre-scale by its largest component: no finite n overflows. */
+    vf ax = vf_abs(n.x), ay = vf_abs(n.y), az = vf_abs(n.z);
+    vf m = vf_max(vf_max(ax, ay), az);
+    vm nvalid = vm_and(vm_and(vf_gt(m, zero), vf_le(ax, big)), vm_and(vf_le(ay, big), vf_le(az, big)));
+    vf inv = vf_div(one, vf_sel(nvalid, m, one));
+    n.x = vf_mul(n.x, inv), n.y = vf_mul(n.y, inv), n.z = vf_mul(n.z, inv);
+    vf il = vf_div(one, vf_sqrt(vf_add(vf_add(vf_mul(n.x, n.x), vf_mul(n.y, n.y)), vf_mul(n.z, n.z))));
+    n.x = vf_mul(n.x, il), n.y = vf_mul(n.y, il), n.z = vf_mul(n.z, il);
+
+    /* Huge g: scale n and g by 1/max|g| so no product overflows; normalize()
+     * ignores a positive common factor. */
+    vf gxa = vf_abs(g.x), gya = vf_abs(g.y), gza = vf_abs(g.z);
+    vm gvalid = vm_and(vm_and(vf_le(gxa, big), vf_le(gya, big)), vf_le(gza, big));
+    vf mg = vf_max(vf_max(gxa, gya), gza);
+    vm huge = vm_and(gvalid, vf_gt(mg, vf_set1((bg_real)1099511627776.0))); /* 2^40 */
+    vf sc = vf_sel(huge, vf_div(one, mg), one);
+    g.x = vf_mul(g.x, sc), g.y = vf_mul(g.y, sc), g.z = vf_mul(g.z, sc);
+
+    v3 s;
+    if (method == BG_PERTURB_SURFGRAD) {
+        vf d = vf_add(vf_add(vf_mul(n.x, g.x), vf_mul(n.y, g.y)), vf_mul(n.z, g.z));
+        /* grad_S = g - n (n.g) (eq. 2); s = n - grad_S (eq. 4). */
+        s.x = vf_sub(vf_mul(n.x, sc), vf_sub(g.x, vf_mul(n.x, d)));
+        s.y = vf_sub(vf_mul(n.y, sc), vf_sub(g.y, vf_mul(n.y, d)));
+        s.z = vf_sub(vf_mul(n.z, sc), vf_sub(g.z, vf_mul(n.z, d)));
+    } else if (method == BG_PERTURB_ADDITIVE) {
+        s.x = vf_sub(vf_mul(n.x, sc), g.x);
+        s.y = vf_sub(vf_mul(n.y, sc), g.y);
+        s.z = vf_sub(vf_mul(n.z, sc), g.z);
+    } else {
+        s.x = vf_add(vf_mul(n.x, sc), g.x);
+        s.y = vf_add(vf_mul(n.y, sc), g.y);
+        s.z = vf_add(vf_mul(n.z, sc), g.z);
+    }
+    vf len = vf_sqrt(vf_add(vf_add(vf_mul(s.x, s.x), vf_mul(s.y, s.y)), vf_mul(s.z, s.z)));
+    vm keep = vm_and(gvalid, vf_gt(len, zero));
+    vf il2 = vf_div(one, vf_sel(keep, len, one));
+    v3 r;
+    r.x = vf_sel(keep, vf_mul(s.x, il2), n.x);
+    r.y = vf_sel(keep, vf_mul(s.y, il2), n.y);
+    r.z = vf_sel(keep, vf_mul(s.z, il2), n.z);
+    r.x = vf_sel(nvalid, r.x, zero);
+    r.y = vf_sel(nvalid, r.y, zero);
+    r.z = vf_sel(nvalid, r.z, zero);
+    return r;
+}
+
+/* ---- Batch kernels ---------------------------------------------------------
+ * One stride loop each; the last partial vector is read and written with
+ * vf_loadn/vf_storen (count c < LANES), so tails take the same arithmetic path. */
+
+#define BG_FOR_BATCH(i, c, n) \
+    for (size_t i = 0, c; i < (n) && ((c = ((n) - i < LANES ? (n) - i : LANES)), 1); i += LANES)
+
+void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
+{
+    BG_FOR_BATCH(i, c, n)
+    {
+        corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
+        vf_storen(v + i, r.v, c);
+    }
+}
+
+static inline void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *gx,
+                                bg_real *gy, bg_real *gz)
+{
+    if (v)
+        vf_storen(v + i, r.v, c);
+    vf_storen(gx + i, r.gx, c);
+    vf_storen(gy + i, r.gy, c);
+    vf_storen(gz + i, r.gz, c);
+}
+
+void KFN(noise3_grad)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v,
+                      bg_real *gx, bg_real *gy, bg_real *gz)
+{
+    BG_FOR_BATCH(i, c, n)
+    {
+        corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1);
+        store_corner(r, i, c, v, gx, gy, gz);
+    }
+}
+
+void KFN(fractal3)(const bg_fractal *f, const bg_real *x, const bg_real *y, const bg_real *z,
+                   size_t n, bg_real *v)
+{
+    BG_FOR_BATCH(i, c, n)
+    {
+        corner r = fractal_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
+        vf_storen(v + i, r.v, c);
+    }
+}
+
+void KFN(fractal3_grad)(const bg_fractal *f, const bg_real *x, const bg_real *y, const bg_real *z,
+                        size_t n, bg_real *v, bg_real *gx, bg_real *gy, bg_real *gz)
+{
+    BG_FOR_BATCH(i, c, n)
+    {
+        corner r = fractal_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1);
+        store_corner(r, i, c, v, gx, gy, gz);
+    }
+}
+
+void KFN(fractal3_grad_central)(const bg_fractal *f, bg_real h, const bg_real *x,
+                                const bg_real *y, const bg_real *z, size_t n, bg_real *v,
+                                bg_real *gx, bg_real *gy, bg_real *gz)
+{
+    vf hv = vf_set1(h);
+    BG_FOR_BATCH(i, c, n)
+    {
+        corner r = fractal_central_vec(f, hv, vf_loadn(x + i, c), vf_loadn(y + i, c),
+                                       vf_loadn(z + i, c));
+        store_corner(r, i, c, v, gx, gy, gz);
+    }
+}
+
+void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, const bg_real *nz,
+                  const bg_real *gx, const bg_real *gy, const bg_real *gz, size_t n,
+                  bg_real *ox, bg_real *oy, bg_real *oz)
+{
+    BG_FOR_BATCH(i, c, n)
+    {
+        v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
+        v3 gg = {vf_loadn(gx + i, c), vf_loadn(gy + i, c), vf_loadn(gz + i, c)};
+        v3 r = perturb_vec(m, nn, gg);
+        vf_storen(ox + i, r.x, c);
+        vf_storen(oy + i, r.y, c);
+        vf_storen(oz + i, r.z, c);
+    }
+}
+
+#ifndef BG_SCALAR_DOUBLE
+/* Fused height -> normal: h(p) = A F(f p), grad h = A f F'(f p), then eq. 4. */
+void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real *px,
+                         const bg_real *py, const bg_real *pz, const bg_real *nx,
+                         const bg_real *ny, const bg_real *nz, size_t n, bg_real *height,
+                         bg_real *ox, bg_real *oy, bg_real *oz)
+{
+    vf freq = vf_set1(h->frequency), amp = vf_set1(h->amplitude);
+    vf af = vf_set1(h->amplitude * h->frequency);
+    vf step = vf_set1(h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP);
+    int central = h->gradient == BG_GRADIENT_CENTRAL;
+    BG_FOR_BATCH(i, c, n)
+    {
+        vf qx = vf_mul(vf_loadn(px + i, c), freq);
+        vf qy = vf_mul(vf_loadn(py + i, c), freq);
+        vf qz = vf_mul(vf_loadn(pz + i, c), freq);
+        corner r = central ? fractal_central_vec(&h->fractal, step, qx, qy, qz)
+                           : fractal_vec(&h->fractal, qx, qy, qz, 1);
+        v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
+        v3 gg = {vf_mul(af, r.gx), vf_mul(af, r.gy), vf_mul(af, r.gz)};
+        v3 o = perturb_vec(m, nn, gg);
+        if (height)
+            vf_storen(height + i, vf_mul(amp, r.v), c);
+        vf_storen(ox + i, o.x, c);
+        vf_storen(oy + i, o.y, c);
+        vf_storen(oz + i, o.z, c);
+    }
+}
+#endif
+
+/* ---- This ISA's kernel table ---------------------------------------------- */
+#ifdef BG_SCALAR_DOUBLE
+const bg_kernel_table_d bg_kernels_c64 = {
+    .noise3_grad = bg_noise3_grad_c64,
+    .fractal3_grad = bg_fractal3_grad_c64,
+    .fractal3_grad_central = bg_fractal3_grad_central_c64,
+    .perturb = bg_perturb_c64,
+};
+#else
+const bg_kernel_table KFN(kernels) = {
+    .isa = BG_ISA_ENUM,
+    .noise3 = KFN(noise3),
+    .noise3_grad = KFN(noise3_grad),
+    .fractal3 = KFN(fractal3),
+    .fractal3_grad = KFN(fractal3_grad),
+    .fractal3_grad_central = KFN(fractal3_grad_central),
+    .perturb = KFN(perturb),
+    .perturb_height = KFN(perturb_height),
+};
+#endif

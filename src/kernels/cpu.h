@@ -1,0 +1,8 @@
+/* SPDX-License-Identifier: MIT */
+#ifndef BUMPGRAD_CPU_H
+#define BUMPGRAD_CPU_H
+#include "bumpgrad/common.h"
+/* 1 if the CPU (and the OS, for the register state) supports every feature the
+ * kernels of `isa` are compiled with. Detected once, thread-safe. */
+int bg_cpu_has(bg_isa isa);
+#endif

@@ -1,0 +1,138 @@
+/* SPDX-License-Identifier: MIT */
+/* Runtime dispatch: detect the CPU once (cpu.c), fill the table scalar first and
+ * upgrade level by level, stopping at the first missing feature (dav1d's
+ * pal.h); BUMPGRAD_ISA or bg_isa_force() caps the level. */
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include "kernels.h"
+#include "cpu.h"
+#include "kernels/bg_config.h"
+
+#if BG_HAVE_SSE2
+extern const bg_kernel_table bg_kernels_sse2;
+#endif
+#if BG_HAVE_AVX2
+extern const bg_kernel_table bg_kernels_avx2;
+#endif
+#if BG_HAVE_AVX512
+extern const bg_kernel_table bg_kernels_avx512;
+#endif
+#if BG_HAVE_NEON
+extern const bg_kernel_table bg_kernels_neon;
+#endif
+
+static const bg_kernel_table *table_of(bg_isa isa)
+{
+    switch (isa) {
+    case BG_ISA_SCALAR: return &bg_kernels_c;
+#if BG_HAVE_SSE2
+    case BG_ISA_SSE2: return &bg_kernels_sse2;
+#endif
+#if BG_HAVE_AVX2
+    case BG_ISA_AVX2: return &bg_kernels_avx2;
+#endif
+#if BG_HAVE_AVX512
+    case BG_ISA_AVX512: return &bg_kernels_avx512;
+#endif
+#if BG_HAVE_NEON
+    case BG_ISA_NEON: return &bg_kernels_neon;
+#endif
+    default: return NULL;
+    }
+}
+
+static const char *const isa_names[BG_ISA_COUNT] = {"scalar", "sse2", "avx2", "avx512", "neon"};
+
+const char *bg_isa_name(bg_isa isa)
+{
+    return (unsigned)isa < BG_ISA_COUNT ? isa_names[isa] : "unknown";
+}
+
+bg_status bg_isa_parse(const char *name, bg_isa *out)
+{
+    if (!name || !out)
+        return BG_ERR_NULL_POINTER;
+    for (int i = 0; i < BG_ISA_COUNT; i++)
+        if (strcmp(name, isa_names[i]) == 0) {
+            *out = (bg_isa)i;
+            return BG_OK;
+        }
+    if (strcmp(name, "c") == 0) {
+        *out = BG_ISA_SCALAR;
+        return BG_OK;
+    }
+    return BG_ERR_INVALID_ARGUMENT;
+}
+
+/* The ISA levels form a chain on each architecture; "supported" means both built
+ * into this library and usable on this CPU (cpu.c checks OS support via xgetbv). */
+static int isa_supported(bg_isa isa)
+{
+    return table_of(isa) != NULL && bg_cpu_has(isa);
+}
+
+bg_isa bg_isa_best(void)
+{
+    static atomic_int best = -1;
+    int b = atomic_load(&best);
+    if (b < 0) {
+        b = BG_ISA_SCALAR;
+#if BG_HAVE_NEON
+        if (isa_supported(BG_ISA_NEON))
+            b = BG_ISA_NEON;
+#else
+        for (int i = BG_ISA_SSE2; i <= BG_ISA_AVX512 && isa_supported((bg_isa)i); i++)
+            b = i;
+#endif
+        atomic_store(&best, b);
+    }
+    return (bg_isa)b;
+}
+
+static int isa_at_or_below(bg_isa want, bg_isa best)
+{
+    if (want == BG_ISA_SCALAR || want == best)
+        return 1;
+    if (want == BG_ISA_NEON || best == BG_ISA_NEON)
+        return 0;
+    return want <= best;
+}
+
+static atomic_int active_isa = -1;
+
+bg_isa bg_isa_active(void)
+{
+    int a = atomic_load(&active_isa);
+    if (a < 0) {
+        bg_isa best = bg_isa_best(), want;
+        a = best;
+        /* An unknown or too-high BUMPGRAD_ISA is ignored here (the library has no
+         * channel to complain); the CLI validates it and exits with a message. */
+        const char *env = getenv("BUMPGRAD_ISA");
+        if (env && *env && bg_isa_parse(env, &want) == BG_OK && isa_at_or_below(want, best))
+            a = want;
+        atomic_store(&active_isa, a);
+    }
+    return (bg_isa)a;
+}
+
+bg_status bg_isa_force(bg_isa isa)
+{
+    if ((unsigned)isa >= BG_ISA_COUNT)
+        return BG_ERR_INVALID_ARGUMENT;
+    if (!isa_at_or_below(isa, bg_isa_best()))
+        return BG_ERR_UNSUPPORTED_ISA;
+    atomic_store(&active_isa, (int)isa);
+    return BG_OK;
+}
+
+const bg_kernel_table *bg_kernels(void)
+{
+    return table_of(bg_isa_active());
+}
+
+const bg_kernel_table *bg_kernels_for(bg_isa isa)
+{
+    return isa_supported(isa) ? table_of(isa) : NULL;
+}

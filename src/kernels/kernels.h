@@ -1,0 +1,60 @@
+/* SPDX-License-Identifier: MIT */
+/* Internal: the kernel table that every ISA fills, and the dispatch entry points.
+ * Kernels are written once in *_tmpl.c against the vector vocabulary of vec_*.h
+ * and compiled per ISA (STYLE.md 3); this header is the only contract between
+ * src/core and src/kernels. */
+#ifndef BUMPGRAD_KERNELS_H
+#define BUMPGRAD_KERNELS_H
+
+#include <stdint.h>
+#include "bumpgrad/noise.h"
+#include "bumpgrad/surfgrad.h"
+
+/* Perlin's reference permutation, doubled so that p[i + 1] never wraps (i < 511). */
+extern const int32_t bg_perm512[512];
+extern const uint8_t bg_perm256_u8[256];
+
+typedef struct bg_kernel_table {
+    bg_isa isa;
+    void (*noise3)(const float *x, const float *y, const float *z, size_t n, float *v);
+    void (*noise3_grad)(const float *x, const float *y, const float *z, size_t n, float *v,
+                        float *gx, float *gy, float *gz);
+    void (*fractal3)(const bg_fractal *f, const float *x, const float *y, const float *z,
+                     size_t n, float *v);
+    void (*fractal3_grad)(const bg_fractal *f, const float *x, const float *y, const float *z,
+                          size_t n, float *v, float *gx, float *gy, float *gz);
+    void (*fractal3_grad_central)(const bg_fractal *f, float h, const float *x, const float *y,
+                                  const float *z, size_t n, float *v, float *gx, float *gy,
+                                  float *gz);
+    void (*perturb)(bg_perturb_method m, const float *nx, const float *ny, const float *nz,
+                    const float *gx, const float *gy, const float *gz, size_t n, float *ox,
+                    float *oy, float *oz);
+    void (*perturb_height)(const bg_height *h, bg_perturb_method m, const float *px,
+                           const float *py, const float *pz, const float *nx, const float *ny,
+                           const float *nz, size_t n, float *height, float *ox, float *oy,
+                           float *oz);
+} bg_kernel_table;
+
+/* Double-precision kernels: the same template with a one-lane double vocabulary. */
+typedef struct bg_kernel_table_d {
+    void (*noise3_grad)(const double *x, const double *y, const double *z, size_t n, double *v,
+                        double *gx, double *gy, double *gz);
+    void (*fractal3_grad)(const bg_fractal *f, const double *x, const double *y, const double *z,
+                          size_t n, double *v, double *gx, double *gy, double *gz);
+    void (*fractal3_grad_central)(const bg_fractal *f, double h, const double *x,
+                                  const double *y, const double *z, size_t n, double *v,
+                                  double *gx, double *gy, double *gz);
+    void (*perturb)(bg_perturb_method m, const double *nx, const double *ny, const double *nz,
+                    const double *gx, const double *gy, const double *gz, size_t n, double *ox,
+                    double *oy, double *oz);
+} bg_kernel_table_d;
+
+/* The table of the active ISA (bg_isa_active()); never NULL. */
+const bg_kernel_table *bg_kernels(void);
+/* The table of one ISA, or NULL if this build or CPU lacks it (for the harness). */
+const bg_kernel_table *bg_kernels_for(bg_isa isa);
+/* The scalar float table (used by the single-point entry points). */
+extern const bg_kernel_table bg_kernels_c;
+extern const bg_kernel_table_d bg_kernels_c64;
+
+#endif

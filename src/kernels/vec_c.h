@@ -1,0 +1,67 @@
+/* SPDX-License-Identifier: MIT */
+/* Vector vocabulary, scalar: one lane, float (or double when BG_SCALAR_DOUBLE is
+ * defined: the double entry points use the very same template). The scalar kernel is the template
+ * compiled against this header, so it is by construction the same algorithm as
+ * every SIMD level (SLEEF-style "helper" headers). Every vocabulary must define
+ * each operation with exactly these IEEE semantics so that lanes agree bit for
+ * bit: vf_max(a,b) is (a > b ? a : b) (x86 maxps order), vf_floor is IEEE floor,
+ * vi_from_vf truncates an in-range value, vf_sel(m,a,b) is m ? a : b. */
+#ifndef BUMPGRAD_VEC_C_H
+#define BUMPGRAD_VEC_C_H
+
+#include <math.h>
+#include <stdint.h>
+#include <float.h>
+#include "kernels.h"
+
+#ifdef BG_SCALAR_DOUBLE
+#define BG_ISA_SUFFIX c64
+#define BG_REAL_MAX DBL_MAX
+typedef double bg_real;
+#define BG_SQRT sqrt
+#define BG_FLOOR floor
+#define BG_FABS fabs
+#else
+#define BG_ISA_SUFFIX c
+#define BG_REAL_MAX FLT_MAX
+typedef float bg_real;
+#define BG_SQRT sqrtf
+#define BG_FLOOR floorf
+#define BG_FABS fabsf
+#endif
+#define LANES 1
+#define BG_ISA_ENUM BG_ISA_SCALAR
+typedef bg_real vf;
+typedef int32_t vi;
+typedef int vm;
+
+static inline vf vf_set1(bg_real a) { return a; }
+static inline vf vf_loadn(const bg_real *p, size_t c) { (void)c; return *p; }
+static inline void vf_storen(bg_real *p, vf v, size_t c) { (void)c; *p = v; }
+static inline vf vf_add(vf a, vf b) { return a + b; }
+static inline vf vf_sub(vf a, vf b) { return a - b; }
+static inline vf vf_mul(vf a, vf b) { return a * b; }
+static inline vf vf_div(vf a, vf b) { return a / b; }
+static inline vf vf_sqrt(vf a) { return BG_SQRT(a); }
+static inline vf vf_floor(vf a) { return BG_FLOOR(a); }
+static inline vf vf_abs(vf a) { return BG_FABS(a); }
+static inline vf vf_neg(vf a) { return -a; }
+static inline vf vf_max(vf a, vf b) { return a > b ? a : b; }
+static inline vm vf_lt(vf a, vf b) { return a < b; }
+static inline vm vf_le(vf a, vf b) { return a <= b; }
+static inline vm vf_gt(vf a, vf b) { return a > b; }
+static inline vm vm_and(vm a, vm b) { return a & b; }
+static inline vm vm_or(vm a, vm b) { return a | b; }
+static inline vm vm_not(vm a) { return !a; }
+static inline vf vf_sel(vm m, vf a, vf b) { return m ? a : b; }
+static inline vi vi_set1(int32_t a) { return a; }
+static inline vi vi_from_vf(vf a) { return (int32_t)a; }
+static inline vi vi_add(vi a, vi b) { return a + b; }
+static inline vi vi_and(vi a, vi b) { return a & b; }
+static inline vm vi_lt(vi a, vi b) { return a < b; }
+static inline vm vi_eq(vi a, vi b) { return a == b; }
+static inline vm vi_test(vi a, vi bits) { return (a & bits) != 0; }
+/* Perlin's permutation lookup p[idx], idx in [0, 512). */
+static inline vi vi_perm(vi idx) { return bg_perm512[idx]; }
+
+#endif
