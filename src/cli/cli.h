@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* Internal interface of the `bumpgrad` command: the subcommand table and the
  * helpers every subcommand shares (errors, argument parsing, safe output files,
- * progress, threads). */
+ * progress, threads, height-function options). Implemented in util.c,
+ * outfile.c, parallel.c, heightopt.c. */
 #ifndef BUMPGRAD_CLI_H
 #define BUMPGRAD_CLI_H
 
@@ -19,8 +20,72 @@ typedef struct cli_command {
     int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
 } cli_command;
 
-/* Subcommands (one file each: cmd_<name>.c). */
+/* Subcommands (one file each: cmd_<name>.c), listed in main.c. */
 int cmd_eval(int argc, char **argv);
 int cmd_perturb(int argc, char **argv);
+
+/* ---- messages ---- */
+/* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_USAGE for chaining. */
+int cli_usage_error(const char *cmd, const char *fmt, ...);
+/* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_FAIL. */
+int cli_fail(const char *cmd, const char *fmt, ...);
+
+/* ---- argument parsing: each returns 0 on success, else prints an error naming
+ * the option and the bad text and returns CLI_USAGE ---- */
+int cli_parse_float(const char *cmd, const char *opt, const char *text, float *out);
+int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out);
+int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, long hi, long *out);
+/* Option value: argv[*i + 1], advancing *i; error if missing. */
+int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **out);
+
+/* ---- safe output: write to "<path>.tmp.XXXXXX" in the same folder, rename on
+ * commit; abort (or a crash) never leaves a half-written file nor touches an
+ * existing one. "-" means stdout (commit just flushes). ---- */
+typedef struct cli_outfile {
+    FILE *fp;
+    char *path;     /* final path */
+    char *tmp_path; /* temporary path, NULL for stdout */
+} cli_outfile;
+int cli_outfile_open(const char *cmd, const char *path, cli_outfile *out);  /* 0 or CLI_FAIL */
+int cli_outfile_commit(const char *cmd, cli_outfile *out);                   /* 0 or CLI_FAIL */
+void cli_outfile_abort(cli_outfile *out);
+/* For writers that need a path (OpenImageIO, OpenVDB, PLY): make a temporary
+ * path next to `path` keeping its extension (…/.name.tmp123.png), and rename it
+ * into place. Returns malloc'd string or NULL. */
+char *cli_temp_path_like(const char *path);
+int cli_rename_into_place(const char *cmd, const char *tmp_path, const char *path);
+
+/* ---- progress on stderr, only when stderr is a terminal ---- */
+typedef struct cli_progress {
+    const char *label;
+    size_t total, last_shown;
+    int enabled;
+    double t0;
+} cli_progress;
+void cli_progress_begin(cli_progress *p, const char *label, size_t total);
+void cli_progress_update(cli_progress *p, size_t done);
+void cli_progress_end(cli_progress *p);
+
+/* ---- threads: split [0, n) into chunks over `threads` workers (0 = all cores).
+ * fn(ctx, begin, end, worker) is called for disjoint ranges. ---- */
+int cli_threads_default(void);
+void cli_parallel_for(size_t n, size_t chunk, int threads,
+                      void (*fn)(void *ctx, size_t begin, size_t end, int worker), void *ctx);
+
+/* ---- height-function options shared by perturb, render, mesh, volume:
+ * --function noise|fbm|turbulence --octaves N --lacunarity L --gain G
+ * --amplitude A --frequency F --gradient analytic|central --step H
+ * (and, with the tools, --height-grid FILE.vdb[:GRID]). ---- */
+typedef struct cli_height {
+    bg_height h;
+    const char *grid_path; /* non-NULL: a VDB FloatGrid is the height (tools only) */
+    const char *grid_name;
+} cli_height;
+void cli_height_init(cli_height *h);
+/* If argv[*i] is a height option, consume it (and its value): returns 1; returns 0
+ * if it is not one; CLI_USAGE (after printing) on a bad value. */
+int cli_height_option(const char *cmd, cli_height *h, int argc, char **argv, int *i);
+/* The --help lines for these options. */
+void cli_height_help(FILE *fp);
 
 #endif

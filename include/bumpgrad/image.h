@@ -1,0 +1,52 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file image.h
+ * @brief Images for the tools, through OpenImageIO (libbumpgrad_io, C++ inside,
+ *        C interface). Not part of the core library.
+ */
+#ifndef BUMPGRAD_IMAGE_H
+#define BUMPGRAD_IMAGE_H
+
+#include "common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** An interleaved float image, row 0 at the top. Values are whatever the file
+ *  holds, converted to float (8/16-bit integer formats map to [0, 1]). */
+typedef struct bg_image {
+    int width, height, channels;
+    float *pixels; /**< width*height*channels floats, owned (free with bg_image_free) */
+} bg_image;
+
+/** Storage type of written pixels. */
+typedef enum bg_pixel_type {
+    BG_PIXEL_U8 = 0,
+    BG_PIXEL_U16 = 1,
+    BG_PIXEL_HALF = 2,
+    BG_PIXEL_F32 = 3
+} bg_pixel_type;
+
+/** Allocate a zeroed image. */
+BG_API bg_status bg_image_alloc(bg_image *img, int width, int height, int channels);
+BG_API void bg_image_free(bg_image *img);
+
+/** Read any format OpenImageIO reads. On failure returns BG_ERR_IO or BG_ERR_FORMAT
+ *  and writes a message naming the file into err (errlen bytes, may be 0). */
+BG_API bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen);
+
+/** Write an image; the format comes from the extension (.png, .exr, .tif, ...).
+ *  `srgb` nonzero: pixel values are linear and are encoded with the sRGB transfer
+ *  curve before quantization (for display images); zero: stored as they are.
+ *  The file is written to a temporary name in the same folder and renamed into
+ *  place on success, so a failure never leaves a partial file or destroys an old
+ *  one. Unwritable path: BG_ERR_IO with a message. */
+BG_API bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
+                                char *err, size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* BUMPGRAD_IMAGE_H */
