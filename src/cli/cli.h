@@ -79,7 +79,8 @@ void cli_parallel_for(size_t n, size_t chunk, int threads,
 typedef struct cli_height {
     bg_height h;
     const char *grid_path; /* non-NULL: a VDB FloatGrid is the height (tools only) */
-    const char *grid_name;
+    const char *grid_name; /* NULL: the first FloatGrid of the file */
+    void *grid;            /* opened grid (bg_vdb_height *), set by cli_height_open */
 } cli_height;
 void cli_height_init(cli_height *h);
 /* If argv[*i] is a height option, consume it (and its value): returns 1; returns 0
@@ -87,5 +88,17 @@ void cli_height_init(cli_height *h);
 int cli_height_option(const char *cmd, cli_height *h, int argc, char **argv, int *i);
 /* The --help lines for these options. */
 void cli_height_help(FILE *fp);
+/* Validate the options and open the VDB grid if one was given. 0, CLI_USAGE
+ * (bad combination, grid given without tools) or CLI_FAIL (unreadable grid). */
+int cli_height_open(const char *cmd, cli_height *h);
+void cli_height_close(cli_height *h);
+/* Height and volume gradient at n points (SoA): the fractal kernels, or the grid
+ * (gradient by a stencil on the grid). `height` may be NULL. */
+void cli_height_gradient(const cli_height *h, const float *px, const float *py, const float *pz,
+                         size_t n, float *height, float *gx, float *gy, float *gz);
+/* Height and perturbed normal (fused kernel, or grid gradient + bg_perturb_batch). */
+void cli_height_perturb(const cli_height *h, bg_perturb_method m, const float *px,
+                        const float *py, const float *pz, const float *nx, const float *ny,
+                        const float *nz, size_t n, float *height, float *ox, float *oy, float *oz);
 
 #endif
