@@ -201,12 +201,14 @@ int study_chart_accuracy(const char *cmd, const char *dir)
         "  '%s' every ::1 using (sel('forward','float32') ? $4 : 1/0):(e(5)) with points pt 13 lc rgb '#9467bd' title 'forward f32', \\\n"
         "  '%s' every ::1 using (sel('listing1','float32') ? $4 : 1/0):(e(5)) with linespoints pt 6 lc rgb '#2ca02c' title 'Listing 1 (pixel density)', \\\n"
         "  '%s' every ::1 using (sel('truncated','float32') ? $4 : 1/0):(e(5)) with linespoints pt 4 lc rgb '#ff7f0e' title 'fewer octaves', \\\n"
+        "  '%s' every ::1 using (sel('fixed-octaves','float32') ? $4 : 1/0):(e(5)) with linespoints pt 8 lc rgb '#7f7f7f' title 'all 6 octaves vs pixel average', \\\n"
+        "  '%s' every ::1 using (sel('footprint','float32') ? $4 : 1/0):(e(5)) with linespoints pt 3 ps 1.4 lc rgb '#e377c2' title 'footprint-aware vs pixel average', \\\n"
         "  '%s' every ::1 using 4:(e(5)):(strcol(2)) with labels offset 0.8,0.5 font ',7' notitle, \\\n"
         "  $pareto using 1:2 with steps lw 2 dt 2 lc rgb '#444444' title 'Pareto front'\n";
     fprintf(f, "set terminal pngcairo size 1100,700 noenhanced\nset output '%s'\n", png_t);
-    fprintf(f, body, csv, csv, csv, csv, csv, csv, csv, csv);
+    fprintf(f, body, csv, csv, csv, csv, csv, csv, csv, csv, csv, csv);
     fprintf(f, "set terminal svg size 1100,700 noenhanced\nset output '%s'\n", svg_t);
-    fprintf(f, body, csv, csv, csv, csv, csv, csv, csv, csv);
+    fprintf(f, body, csv, csv, csv, csv, csv, csv, csv, csv, csv, csv);
     if (cli_outfile_commit(cmd, &of))
         goto done;
     {
