@@ -6,5 +6,6 @@
 #include "bumpgrad/common.h"
 #include "bumpgrad/noise.h"
 #include "bumpgrad/surfgrad.h"
+#include "bumpgrad/framework.h"
 
 #endif /* BUMPGRAD_H */
