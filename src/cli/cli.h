@@ -23,6 +23,13 @@ typedef struct cli_command {
 /* Subcommands (one file each: cmd_<name>.c), listed in main.c. */
 int cmd_eval(int argc, char **argv);
 int cmd_perturb(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_mesh(int argc, char **argv);
+int cmd_accuracy(int argc, char **argv);
+int cmd_stability(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+int cmd_volume(int argc, char **argv);
+int cmd_heightmap(int argc, char **argv);
 
 /* ---- messages ---- */
 /* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_USAGE for chaining. */

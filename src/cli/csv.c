@@ -1,0 +1,301 @@
+/* SPDX-License-Identifier: MIT */
+/* Streaming numeric CSV reader (see csv.h). Strict on purpose: a table of
+ * sample points that parses "almost" (a stray blank line, a truncated row, a
+ * "1.5x") is far more likely a broken export than an intent, so each such case is
+ * an error naming the line and column rather than a silently skipped row. */
+#define _POSIX_C_SOURCE 200809L
+#include "csv.h"
+#include "cli.h"
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static int is_blank_char(char ch)
+{
+    return ch == ' ' || ch == '\t';
+}
+
+/* The offending text, shortened and with control bytes escaped, for messages. */
+static const char *quote(const char *s, size_t n, char *out, size_t cap)
+{
+    size_t o = 0, limit = 40;
+    for (size_t i = 0; i < n && o + 8 < cap; i++) {
+        if (i == limit) {
+            memcpy(out + o, "...", 3);
+            o += 3;
+            break;
+        }
+        unsigned char ch = (unsigned char)s[i];
+        if (ch < 0x20 || ch == 0x7f || ch == '"' || ch == '\\')
+            o += (size_t)snprintf(out + o, cap - o, "\\x%02x", ch);
+        else
+            out[o++] = (char)ch;
+    }
+    out[o] = '\0';
+    return out;
+}
+
+static int row_error(const cli_csv *c, size_t col, const char *fmt, const char *arg)
+{
+    char msg[256];
+    snprintf(msg, sizeof msg, fmt, arg);
+    return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, col, msg);
+}
+
+int cli_csv_open(cli_csv *c, const char *cmd, const char *path, int allow_nonfinite)
+{
+    memset(c, 0, sizeof *c);
+    c->cmd = cmd;
+    c->allow_nonfinite = allow_nonfinite;
+    if (strcmp(path, "-") == 0) {
+        c->name = "<stdin>";
+        c->fp = stdin;
+    } else {
+        c->name = path;
+        c->fp = fopen(path, "rb");
+        if (!c->fp)
+            return cli_usage_error(cmd, "cannot open input %s: %s", path, strerror(errno));
+        struct stat st;
+        if (fstat(fileno(c->fp), &st) == 0) {
+            if (S_ISDIR(st.st_mode)) {
+                fclose(c->fp);
+                c->fp = NULL;
+                return cli_usage_error(cmd, "cannot read input %s: is a directory", path);
+            }
+            if (S_ISREG(st.st_mode))
+                c->size = (size_t)st.st_size;
+        }
+    }
+    c->buf = malloc(CLI_CSV_MAX_LINE + 1);
+    if (!c->buf) {
+        cli_csv_close(c);
+        return cli_fail(cmd, "out of memory");
+    }
+    return 0;
+}
+
+void cli_csv_close(cli_csv *c)
+{
+    if (c->fp && c->fp != stdin)
+        fclose(c->fp);
+    c->fp = NULL;
+    free(c->buf);
+    c->buf = NULL;
+}
+
+/* Next line without its "\n" or "\r\n", NUL-terminated in place. 1: a line,
+ * 0: end of input, or CLI_USAGE/CLI_FAIL negated. */
+static int next_line(cli_csv *c, char **line, size_t *len)
+{
+    for (;;) {
+        char *p = c->buf + c->start;
+        char *nl = memchr(p, '\n', c->end - c->start);
+        if (nl || (c->eof && c->start < c->end)) {
+            size_t n = nl ? (size_t)(nl - p) : c->end - c->start;
+            c->start += nl ? n + 1 : n;
+            c->line++;
+            if (n > 0 && p[n - 1] == '\r')
+                n--;
+            p[n] = '\0'; /* buf has one spare byte past CLI_CSV_MAX_LINE */
+            *line = p;
+            *len = n;
+            return 1;
+        }
+        if (c->eof)
+            return 0;
+        if (c->start > 0) {
+            memmove(c->buf, c->buf + c->start, c->end - c->start);
+            c->end -= c->start;
+            c->start = 0;
+        }
+        if (c->end == CLI_CSV_MAX_LINE) {
+            c->line++;
+            cli_usage_error(c->cmd, "%s:%lu:1: line longer than %u bytes", c->name, c->line,
+                            (unsigned)CLI_CSV_MAX_LINE);
+            return -CLI_USAGE;
+        }
+        size_t r = fread(c->buf + c->end, 1, CLI_CSV_MAX_LINE - c->end, c->fp);
+        c->end += r;
+        c->consumed += r;
+        if (r == 0) {
+            if (ferror(c->fp)) {
+                cli_fail(c->cmd, "reading %s failed: %s", c->name, strerror(errno));
+                return -CLI_FAIL;
+            }
+            c->eof = 1;
+        }
+    }
+}
+
+static int line_is_blank(const char *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!is_blank_char(s[i]))
+            return 0;
+    return 1;
+}
+
+int cli_csv_header(cli_csv *c, const char *const *names, int count)
+{
+    char *s;
+    size_t n;
+    char want[128] = "", got[64];
+    for (int k = 0; k < count; k++) {
+        strncat(want, names[k], sizeof want - strlen(want) - 2);
+        if (k + 1 < count)
+            strcat(want, ",");
+    }
+    int r = next_line(c, &s, &n);
+    if (r < 0)
+        return -r;
+    if (r == 0) {
+        c->line = 1;
+        return row_error(c, 1, "empty input, expected the header \"%s\"", want);
+    }
+    size_t pos = 0;
+    /* A byte-order mark is what spreadsheet exports put first; it is not data. */
+    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
+        pos = 3;
+    for (int k = 0; k < count; k++) {
+        while (pos < n && is_blank_char(s[pos]))
+            pos++;
+        size_t nlen = strlen(names[k]);
+        /* The column points at the first byte that differs from the header:
+         * the start of a wrong name, or where a ',' or the line end belongs. */
+        size_t b = pos;
+        int ok = n - pos >= nlen && memcmp(s + pos, names[k], nlen) == 0;
+        if (ok) {
+            pos += nlen;
+            while (pos < n && is_blank_char(s[pos]))
+                pos++;
+            ok = k + 1 < count ? pos < n && s[pos] == ',' : pos == n;
+            b = pos;
+        }
+        if (!ok) {
+            char msg[256];
+            snprintf(msg, sizeof msg, "expected the header \"%s\", got \"%s\"", want,
+                     quote(s, n, got, sizeof got));
+            return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, b + 1, msg);
+        }
+        pos++; /* the comma */
+    }
+    return 0;
+}
+
+/* Split and parse one row; `dbl` picks strtod into dcols, else strtof into fcols. */
+static int parse_row(cli_csv *c, char *s, size_t n, int count, int dbl, float *const *fcols,
+                     double *const *dcols, size_t row)
+{
+    char tmp[64];
+    size_t pos = 0;
+    for (int k = 0; k < count; k++) {
+        size_t b = pos;
+        size_t e = b;
+        while (e < n && s[e] != ',')
+            e++;
+        if (e == n && k + 1 < count) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", count, k + 1);
+            return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
+        }
+        if (k + 1 == count && e < n) {
+            int extra = 1;
+            for (size_t i = e + 1; i < n; i++)
+                extra += s[i] == ',';
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", count, count + extra);
+            return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, e + 2, msg);
+        }
+        size_t vb = b;
+        while (vb < e && is_blank_char(s[vb]))
+            vb++;
+        char saved = s[e];
+        s[e] = '\0';
+        char *end;
+        double dv = 0;
+        float fv = 0;
+        errno = 0;
+        if (vb == e) {
+            s[e] = saved;
+            return row_error(c, b + 1, "expected a number, got \"%s\"", "");
+        }
+        if (dbl)
+            dv = strtod(s + vb, &end);
+        else
+            fv = strtof(s + vb, &end);
+        int range = errno == ERANGE;
+        while (is_blank_char(*end))
+            end++;
+        s[e] = saved;
+        if (end == s + vb || end != s + e)
+            return row_error(c, vb + 1, "expected a number, got \"%s\"",
+                             quote(s + vb, e - vb, tmp, sizeof tmp));
+        int finite = dbl ? isfinite(dv) : isfinite(fv);
+        double mag = dbl ? fabs(dv) : fabsf(fv);
+        /* ERANGE with a big result is an overflowing literal like 1e999: not an
+         * explicit inf, so it stays an error even with --allow-nonfinite. */
+        if (range && mag > 1.0) {
+            int fits_double = !dbl && isfinite(strtod(s + vb, NULL));
+            return row_error(
+                c, vb + 1,
+                fits_double ? "number \"%s\" is out of the range of float (use --precision double?)"
+                : dbl       ? "number \"%s\" is out of the range of double"
+                            : "number \"%s\" is out of the range of float",
+                quote(s + vb, e - vb, tmp, sizeof tmp));
+        }
+        if (!finite && !c->allow_nonfinite)
+            return row_error(c, vb + 1,
+                             "non-finite value \"%s\" (--allow-nonfinite accepts NaN and Inf)",
+                             quote(s + vb, e - vb, tmp, sizeof tmp));
+        if (dbl)
+            dcols[k][row] = dv;
+        else
+            fcols[k][row] = fv;
+        pos = e + 1;
+    }
+    return 0;
+}
+
+static int read_rows(cli_csv *c, int count, int dbl, float *const *fcols, double *const *dcols,
+                     size_t max, size_t *rows)
+{
+    size_t got = 0;
+    while (got < max) {
+        char *s;
+        size_t n;
+        int r = next_line(c, &s, &n);
+        if (r < 0)
+            return -r;
+        if (r == 0)
+            break;
+        if (line_is_blank(s, n)) {
+            if (!c->blank)
+                c->blank = c->line;
+            continue;
+        }
+        if (c->blank) {
+            /* Blank lines at the very end are harmless; inside the data they mean
+             * a damaged or concatenated file. */
+            c->line = c->blank;
+            return row_error(c, 1, "blank line inside the data%s", "");
+        }
+        int e = parse_row(c, s, n, count, dbl, fcols, dcols, got);
+        if (e)
+            return e;
+        got++;
+    }
+    *rows = got;
+    return 0;
+}
+
+int cli_csv_read_float(cli_csv *c, int count, float *const *cols, size_t max, size_t *rows)
+{
+    return read_rows(c, count, 0, cols, NULL, max, rows);
+}
+
+int cli_csv_read_double(cli_csv *c, int count, double *const *cols, size_t max, size_t *rows)
+{
+    return read_rows(c, count, 1, NULL, cols, max, rows);
+}

@@ -1,0 +1,171 @@
+/* SPDX-License-Identifier: MIT */
+/* Messages, option-value parsing and the progress line of the `bumpgrad` command.
+ * Option values are parsed over the whole string: "1.5x", " 2", "" and "nan" are
+ * errors, because a silently truncated or non-finite parameter gives a plausible
+ * but wrong picture rather than a failure. */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static void vmessage(const char *cmd, const char *fmt, va_list ap)
+{
+    if (cmd && *cmd)
+        fprintf(stderr, "bumpgrad %s: error: ", cmd);
+    else
+        fputs("bumpgrad: error: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
+int cli_usage_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vmessage(cmd, fmt, ap);
+    va_end(ap);
+    return CLI_USAGE;
+}
+
+int cli_fail(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vmessage(cmd, fmt, ap);
+    va_end(ap);
+    return CLI_FAIL;
+}
+
+/* strtod/strtof skip leading blanks; a value with blanks around it most likely
+ * came from a quoting mistake, so both ends must be part of the number. */
+static int bad_edges(const char *text)
+{
+    return text[0] == '\0' || isspace((unsigned char)text[0]);
+}
+
+int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out)
+{
+    if (!text || bad_edges(text))
+        return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text ? text : "");
+    char *end;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (*end != '\0')
+        return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text);
+    if (!isfinite(v) || (errno == ERANGE && fabs(v) > 1.0))
+        return cli_usage_error(cmd, "%s: expected a finite number, got \"%s\"", opt, text);
+    *out = v;
+    return 0;
+}
+
+int cli_parse_float(const char *cmd, const char *opt, const char *text, float *out)
+{
+    if (!text || bad_edges(text))
+        return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text ? text : "");
+    char *end;
+    errno = 0;
+    float v = strtof(text, &end);
+    if (*end != '\0')
+        return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text);
+    /* ERANGE with a large result is overflow to inf; with a tiny one it is a
+     * harmless underflow to a subnormal or zero. */
+    if (!isfinite(v) || (errno == ERANGE && fabsf(v) > 1.0f))
+        return cli_usage_error(cmd, "%s: expected a finite number in float range, got \"%s\"", opt,
+                               text);
+    *out = v;
+    return 0;
+}
+
+int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, long hi, long *out)
+{
+    if (!text || bad_edges(text))
+        return cli_usage_error(cmd, "%s: expected an integer in [%ld, %ld], got \"%s\"", opt, lo,
+                               hi, text ? text : "");
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (*end != '\0' || errno == ERANGE || v < lo || v > hi)
+        return cli_usage_error(cmd, "%s: expected an integer in [%ld, %ld], got \"%s\"", opt, lo,
+                               hi, text);
+    *out = v;
+    return 0;
+}
+
+int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **out)
+{
+    if (*i + 1 >= argc)
+        return cli_usage_error(cmd, "%s needs a value", argv[*i]);
+    *i += 1;
+    *out = argv[*i];
+    return 0;
+}
+
+/* ---- progress ------------------------------------------------------------ */
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void cli_progress_begin(cli_progress *p, const char *label, size_t total)
+{
+    p->label = label;
+    p->total = total;
+    p->last_shown = (size_t)-1;
+    /* Only a terminal gets the line: in a log file or a pipe the carriage returns
+     * would be noise, and scripts read stderr for error messages. */
+    p->enabled = isatty(STDERR_FILENO) && getenv("BUMPGRAD_NO_PROGRESS") == NULL;
+    p->t0 = p->enabled ? now_seconds() : 0.0;
+}
+
+static void format_rate(double rate, char *buf, size_t len)
+{
+    const char *suffix = "";
+    if (rate >= 1e9)
+        rate /= 1e9, suffix = "G";
+    else if (rate >= 1e6)
+        rate /= 1e6, suffix = "M";
+    else if (rate >= 1e3)
+        rate /= 1e3, suffix = "k";
+    snprintf(buf, len, "%.1f%s/s", rate, suffix);
+}
+
+void cli_progress_update(cli_progress *p, size_t done)
+{
+    if (!p->enabled)
+        return;
+    /* Redraw at most once per 0.1 % (or every 2^16 items when the total is
+     * unknown) so that the clock and the terminal are not hit per item. */
+    size_t key = p->total ? (size_t)((double)done / (double)p->total * 1000.0) : done >> 16;
+    if (key == p->last_shown)
+        return;
+    p->last_shown = key;
+    double dt = now_seconds() - p->t0;
+    char rate[32];
+    format_rate(dt > 0 ? (double)done / dt : 0.0, rate, sizeof rate);
+    if (p->total)
+        fprintf(stderr, "\r%s: %5.1f%%  %s   ", p->label,
+                100.0 * (double)(done < p->total ? done : p->total) / (double)p->total, rate);
+    else
+        fprintf(stderr, "\r%s: %zu  %s   ", p->label, done, rate);
+    fflush(stderr);
+}
+
+void cli_progress_end(cli_progress *p)
+{
+    if (!p->enabled)
+        return;
+    /* Erase the line so the next message (or the shell prompt) starts clean. */
+    fputs("\r\033[K", stderr);
+    fflush(stderr);
+    p->enabled = 0;
+}
