@@ -1,0 +1,582 @@
+/* SPDX-License-Identifier: MIT */
+/* The ray caster of `bumpgrad render`: camera, ray hits, a per-tile G-buffer,
+ * the normal-perturbation methods compared in Mikkelsen 2010 and shading.
+ *
+ * Samples. --spp N = s*s puts s x s samples in each pixel on a regular grid at
+ * the sub-cell centres (stratified, deterministic) and renders the s-times
+ * finer sample grid exactly as a GPU renders a larger target: the screen-space
+ * derivatives of Listing 1 are taken on 2x2 quads of that sample grid, so
+ * supersampling raises the pixel density the paper's section 6 talks about
+ * ("Increasing the resolution or super-sampling will also achieve this").
+ *
+ * Heights are solid: h(p) = amplitude * F(frequency * p) at the hit point,
+ * no texture coordinates (section 3). Every height and gradient goes through
+ * the library's batch calls (via cli_height_perturb / cli_height_gradient),
+ * one batch per tile. */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include "render.h"
+
+#define TILE 8 /* output pixels per tile side */
+
+static const char *const method_names[RENDER_METHOD_COUNT] = {
+    "none", "surfgrad", "surfgrad-central", "listing1", "listing1-coarse", "additive", "flat"};
+
+const char *render_method_name(render_method m)
+{
+    return (unsigned)m < RENDER_METHOD_COUNT ? method_names[m] : "?";
+}
+
+int render_method_parse(const char *name, render_method *out)
+{
+    for (int i = 0; i < RENDER_METHOD_COUNT; i++)
+        if (strcmp(name, method_names[i]) == 0) {
+            *out = (render_method)i;
+            return 0;
+        }
+    return -1;
+}
+
+static const char *const shape_names[3] = {"sphere", "blob", "torus"};
+const char *render_shape_name(render_shape s) { return (unsigned)s < 3 ? shape_names[s] : "?"; }
+int render_shape_parse(const char *name, render_shape *out)
+{
+    for (int i = 0; i < 3; i++)
+        if (strcmp(name, shape_names[i]) == 0) {
+            *out = (render_shape)i;
+            return 0;
+        }
+    return -1;
+}
+
+static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void cross3(const float a[3], const float b[3], float o[3])
+{
+    float x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
+    o[0] = x, o[1] = y, o[2] = z;
+}
+static int normalize3(float v[3])
+{
+    float l = sqrtf(dot3(v, v));
+    if (!(l > 0) || !isfinite(l))
+        return 0;
+    v[0] /= l, v[1] /= l, v[2] /= l;
+    return 1;
+}
+
+void render_scene_camera(render_scene *s, float distance, float zoom)
+{
+    /* A slight elevation shows the top of the objects, like the paper's views. */
+    float dir[3] = {0.0f, 0.28f, 1.0f};
+    normalize3(dir);
+    for (int a = 0; a < 3; a++)
+        s->eye[a] = distance * dir[a], s->fwd[a] = -dir[a];
+    float wup[3] = {0, 1, 0};
+    cross3(s->fwd, wup, s->right);
+    normalize3(s->right);
+    cross3(s->right, s->fwd, s->up);
+    s->tan_half = 0.36397023f / zoom; /* tan(20 degrees): a 40-degree field of view */
+    /* One point light above, left and in front (section 6: "a single point light"). */
+    s->light[0] = -5.0f, s->light[1] = 4.0f, s->light[2] = 3.0f;
+}
+
+void render_listing1(const float pos[4][3], const float h[4], int lane, int fine, const float n[3],
+                     float out[3])
+{
+    /* ddx_fine pairs the two pixels of the lane's row, ddy_fine the two of its
+     * column (section 4: "the same result for pixel pairs in blocks of 2x1 and
+     * 1x2"); coarse uses the top row and left column for the whole quad. */
+    int lx = lane & 1, ly = lane >> 1;
+    int r = fine ? 2 * ly : 0, c = fine ? lx : 0;
+    float sS[3], sT[3], R1[3], R2[3];
+    for (int a = 0; a < 3; a++)
+        sS[a] = pos[r + 1][a] - pos[r][a], sT[a] = pos[c + 2][a] - pos[c][a];
+    float dBs = h[r + 1] - h[r], dBt = h[c + 2] - h[c];
+    /* Listing 1: vR1 = cross(vSigmaT, vN), vR2 = cross(vN, vSigmaS),
+     * fDet = dot(vSigmaS, vR1); eq. (3) scaled by |det| so no division. */
+    cross3(sT, n, R1);
+    cross3(n, sS, R2);
+    float det = dot3(sS, R1);
+    if (!(det != 0)) {
+        /* HLSL sign(0) = 0 would give normalize(0); keep the normal instead. */
+        out[0] = n[0], out[1] = n[1], out[2] = n[2];
+        return;
+    }
+    float sg = det > 0 ? 1.0f : -1.0f, ad = fabsf(det);
+    for (int a = 0; a < 3; a++)
+        out[a] = ad * n[a] - sg * (dBs * R1[a] + dBt * R2[a]);
+    if (!normalize3(out))
+        out[0] = n[0], out[1] = n[1], out[2] = n[2];
+}
+
+/* Figure 1(a): the normal of the displaced surface tau = sigma + h n from its
+ * own screen-space derivatives, cross(tau_s, tau_t), oriented by sign(det) as
+ * in Listing 1. On a triangle n is the face normal, so this perturbs the face
+ * normal and shows the facets. */
+static void flat_normal(const float tau[4][3], const float pos[4][3], int lane, const float nf[3],
+                        float out[3])
+{
+    int lx = lane & 1, ly = lane >> 1;
+    int r = 2 * ly, c = lx;
+    float tS[3], tT[3], sS[3], sT[3], cs[3];
+    for (int a = 0; a < 3; a++) {
+        tS[a] = tau[r + 1][a] - tau[r][a], tT[a] = tau[c + 2][a] - tau[c][a];
+        sS[a] = pos[r + 1][a] - pos[r][a], sT[a] = pos[c + 2][a] - pos[c][a];
+    }
+    cross3(sS, sT, cs);
+    float det = dot3(nf, cs);
+    cross3(tS, tT, out);
+    if (det < 0)
+        out[0] = -out[0], out[1] = -out[1], out[2] = -out[2];
+    if (!normalize3(out))
+        out[0] = nf[0], out[1] = nf[1], out[2] = nf[2];
+}
+
+static void shade(const render_scene *s, const float p[3], const float d[3], const float n[3],
+                  float rgb[3])
+{
+    static const float albedo[3] = {0.60f, 0.57f, 0.54f};
+    float L[3] = {s->light[0] - p[0], s->light[1] - p[1], s->light[2] - p[2]};
+    normalize3(L);
+    float V[3] = {-d[0], -d[1], -d[2]}, H[3] = {L[0] + V[0], L[1] + V[1], L[2] + V[2]};
+    normalize3(H);
+    float nl = dot3(n, L), diff = nl > 0 ? nl : 0, spec = 0;
+    if (nl > 0) {
+        float nh = dot3(n, H);
+        /* Blinn-Phong; the highlight makes normal errors easy to see. */
+        spec = nh > 0 ? 0.35f * powf(nh, 40.0f) : 0;
+    }
+    for (int a = 0; a < 3; a++)
+        rgb[a] = albedo[a] * (0.03f + diff) + spec;
+}
+
+static const float background[3] = {0.012f, 0.014f, 0.02f};
+
+/* ---- one tile ---- */
+typedef struct tile_buf {
+    int ts;           /* samples per tile side */
+    float *dir;       /* 3 per sample */
+    unsigned char *hit;
+    int *prim;
+    float *p, *n, *nf; /* 3 per sample: position, interpolated normal, face/plane normal */
+    float *h;          /* height */
+    float *ref;        /* 3 per sample: analytic surfgrad normal */
+    float *out;        /* 3 per sample per method */
+    /* quad neighbourhoods (Listing 1, flat): per sample 4 lanes */
+    float *qp, *qh, *qn; /* 12, 4, 12 per sample */
+    unsigned char *qok;  /* 4 per sample */
+    /* compacted batches */
+    float *bx, *by, *bz, *bnx, *bny, *bnz, *bh, *box, *boy, *boz;
+    int *bidx; /* batch entry -> sample*4 + lane (helpers) or sample */
+} tile_buf;
+
+static void tile_free(tile_buf *t)
+{
+    void *ptrs[] = {t->dir, t->hit, t->prim, t->p,   t->n,   t->nf,  t->h,   t->ref,
+                    t->out, t->qp,  t->qh,   t->qn,  t->qok, t->bx,  t->by,  t->bz,
+                    t->bnx, t->bny, t->bnz,  t->bh,  t->box, t->boy, t->boz, t->bidx};
+    for (size_t i = 0; i < sizeof ptrs / sizeof ptrs[0]; i++)
+        free(ptrs[i]);
+    memset(t, 0, sizeof *t);
+}
+
+static int tile_alloc(tile_buf *t, int ts, int nmethods)
+{
+    memset(t, 0, sizeof *t);
+    size_t ns = (size_t)ts * ts, nb = ns * 4;
+    t->ts = ts;
+    t->dir = malloc(ns * 3 * sizeof(float));
+    t->hit = malloc(ns);
+    t->prim = malloc(ns * sizeof(int));
+    t->p = malloc(ns * 3 * sizeof(float));
+    t->n = malloc(ns * 3 * sizeof(float));
+    t->nf = malloc(ns * 3 * sizeof(float));
+    t->h = malloc(ns * sizeof(float));
+    t->ref = malloc(ns * 3 * sizeof(float));
+    t->out = malloc(ns * 3 * (size_t)nmethods * sizeof(float));
+    t->qp = malloc(ns * 12 * sizeof(float));
+    t->qh = malloc(ns * 4 * sizeof(float));
+    t->qn = malloc(ns * 12 * sizeof(float));
+    t->qok = malloc(ns * 4);
+    float **b[] = {&t->bx, &t->by, &t->bz, &t->bnx, &t->bny, &t->bnz, &t->bh, &t->box, &t->boy, &t->boz};
+    int ok = 1;
+    for (size_t i = 0; i < sizeof b / sizeof b[0]; i++)
+        ok &= (*b[i] = malloc(nb * sizeof(float))) != NULL;
+    t->bidx = malloc(nb * sizeof(int));
+    if (!ok || !t->dir || !t->hit || !t->prim || !t->p || !t->n || !t->nf || !t->h || !t->ref ||
+        !t->out || !t->qp || !t->qh || !t->qn || !t->qok || !t->bidx) {
+        tile_free(t);
+        return -1;
+    }
+    return 0;
+}
+
+typedef struct run_ctx {
+    render_job *job;
+    int tiles_x, tiles_y;
+    int need_quads;
+    atomic_int failed;
+    atomic_size_t done;
+    cli_progress progress;
+    cli_height analytic, central;
+} run_ctx;
+
+static int trace(const render_scene *s, const float d[3], float p[3], float n[3], float nf[3],
+                 int *prim)
+{
+    if (!s->mesh) {
+        /* Unit sphere at the origin, solved in double: |e + t d|^2 = 1. */
+        double e[3] = {s->eye[0], s->eye[1], s->eye[2]};
+        double b = e[0] * d[0] + e[1] * d[1] + e[2] * d[2];
+        double c = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] - 1.0;
+        double disc = b * b - c;
+        if (disc < 0)
+            return 0;
+        double t = -b - sqrt(disc);
+        if (t <= 0)
+            return 0;
+        for (int a = 0; a < 3; a++)
+            p[a] = (float)(e[a] + t * d[a]);
+        for (int a = 0; a < 3; a++)
+            n[a] = p[a];
+        normalize3(n);
+        memcpy(nf, n, 3 * sizeof(float));
+        *prim = 0;
+        return 1;
+    }
+    render_hit h;
+    if (!render_mesh_intersect(s->mesh, s->eye, d, INFINITY, &h))
+        return 0;
+    const float *P = s->mesh->pos + (size_t)h.prim * 9, *N = s->mesh->nrm + (size_t)h.prim * 9;
+    float b0 = 1.0f - h.b1 - h.b2;
+    for (int a = 0; a < 3; a++) {
+        /* On the triangle's plane exactly, so the helper lanes' plane extension
+         * (below) and the hit lanes describe one plane. */
+        p[a] = P[a] + h.b1 * (P[3 + a] - P[a]) + h.b2 * (P[6 + a] - P[a]);
+        n[a] = b0 * N[a] + h.b1 * N[3 + a] + h.b2 * N[6 + a];
+        nf[a] = s->mesh->face[(size_t)h.prim * 3 + a];
+    }
+    if (!normalize3(n))
+        memcpy(n, nf, 3 * sizeof(float));
+    *prim = h.prim;
+    return 1;
+}
+
+static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
+{
+    render_job *J = C->job;
+    const render_scene *S = J->scene;
+    const int ss = J->ss, ts = T->ts, SW = J->width * ss, SH = J->height_px * ss;
+    /* Sample (sx, sy) looks through ((sx + 0.5) / SW, (sy + 0.5) / SH) of the
+     * image: pixel centres for s = 1, the sub-cell centres otherwise. */
+    const int sx0 = tx * TILE * ss, sy0 = ty * TILE * ss;
+    const size_t ns = (size_t)ts * ts;
+    const float aspect = (float)J->width / (float)J->height_px;
+
+    /* 1. Rays and hits for the whole tile, also past the image edge: the quads
+     * there still need all four lanes, as on a GPU. */
+    for (int j = 0; j < ts; j++)
+        for (int i = 0; i < ts; i++) {
+            size_t k = (size_t)j * ts + i;
+            float u = ((2.0f * ((float)(sx0 + i) + 0.5f)) / (float)SW - 1.0f) * aspect * S->tan_half;
+            float v = (1.0f - (2.0f * ((float)(sy0 + j) + 0.5f)) / (float)SH) * S->tan_half;
+            float *d = T->dir + k * 3;
+            for (int a = 0; a < 3; a++)
+                d[a] = S->fwd[a] + u * S->right[a] + v * S->up[a];
+            normalize3(d);
+            T->hit[k] = (unsigned char)trace(S, d, T->p + k * 3, T->n + k * 3, T->nf + k * 3,
+                                             &T->prim[k]);
+        }
+
+    /* 2. Heights and the reference (analytic surfgrad, Listing 3) in one batch. */
+    size_t nb = 0;
+    for (size_t k = 0; k < ns; k++)
+        if (T->hit[k]) {
+            T->bx[nb] = T->p[k * 3], T->by[nb] = T->p[k * 3 + 1], T->bz[nb] = T->p[k * 3 + 2];
+            T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1], T->bnz[nb] = T->n[k * 3 + 2];
+            T->bidx[nb++] = (int)k;
+        }
+    cli_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
+                       T->bnz, nb, T->bh, T->box, T->boy, T->boz);
+    for (size_t b = 0; b < nb; b++) {
+        size_t k = (size_t)T->bidx[b];
+        T->h[k] = T->bh[b];
+        T->ref[k * 3] = T->box[b], T->ref[k * 3 + 1] = T->boy[b], T->ref[k * 3 + 2] = T->boz[b];
+    }
+
+    /* 3. Quad neighbourhoods for the screen-space methods. A lane covered by the
+     * same primitive contributes its own values; any other lane is what a GPU
+     * makes a helper lane: it interpolates the primitive's attributes beyond
+     * its edge. For a triangle that is the extension of its plane; for the
+     * analytic sphere we extend the tangent plane of the nearest hit lane of
+     * the quad (the ray meets that plane) and evaluate the solid height there. */
+    if (C->need_quads) {
+        size_t nh = 0;
+        for (size_t k = 0; k < ns; k++) {
+            if (!T->hit[k])
+                continue;
+            int i = (int)(k % (size_t)ts), j = (int)(k / (size_t)ts);
+            int qi = i & ~1, qj = j & ~1;
+            for (int l = 0; l < 4; l++) {
+                size_t m = (size_t)(qj + (l >> 1)) * ts + (size_t)(qi + (l & 1));
+                float *qp = T->qp + k * 12 + l * 3, *qn = T->qn + k * 12 + l * 3;
+                T->qok[k * 4 + l] = 1;
+                if (T->hit[m] && (!S->mesh || T->prim[m] == T->prim[k])) {
+                    memcpy(qp, T->p + m * 3, 3 * sizeof(float));
+                    memcpy(qn, S->mesh ? T->nf + k * 3 : T->n + m * 3, 3 * sizeof(float));
+                    T->qh[k * 4 + l] = T->h[m];
+                    continue;
+                }
+                const float *P0, *N0;
+                if (S->mesh) {
+                    P0 = S->mesh->pos + (size_t)T->prim[k] * 9;
+                    N0 = T->nf + k * 3;
+                } else {
+                    size_t src = k;
+                    for (int x = 1; x < 4; x++) {
+                        int o = l ^ x;
+                        size_t mm = (size_t)(qj + (o >> 1)) * ts + (size_t)(qi + (o & 1));
+                        if (T->hit[mm]) {
+                            src = mm;
+                            break;
+                        }
+                    }
+                    P0 = T->p + src * 3;
+                    N0 = T->n + src * 3;
+                }
+                const float *d = T->dir + m * 3;
+                float w[3] = {P0[0] - S->eye[0], P0[1] - S->eye[1], P0[2] - S->eye[2]};
+                float dn = dot3(d, N0), t = dn != 0 ? dot3(w, N0) / dn : -1.0f;
+                if (!(t > 0) || !isfinite(t)) {
+                    T->qok[k * 4 + l] = 0; /* the plane is edge-on or behind the eye */
+                    continue;
+                }
+                for (int a = 0; a < 3; a++)
+                    qp[a] = S->eye[a] + t * d[a];
+                memcpy(qn, N0, 3 * sizeof(float));
+                T->bx[nh] = qp[0], T->by[nh] = qp[1], T->bz[nh] = qp[2];
+                T->bidx[nh++] = (int)(k * 4 + (size_t)l);
+            }
+        }
+        /* Helper-lane heights, one batch (gradients unused: scratch). */
+        cli_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
+        for (size_t b = 0; b < nh; b++)
+            T->qh[T->bidx[b]] = T->bh[b];
+    }
+
+    /* 4. The methods. */
+    for (int mi = 0; mi < J->nmethods; mi++) {
+        render_method M = J->methods[mi];
+        float *out = T->out + (size_t)mi * ns * 3;
+        if (M == RENDER_SURFGRAD_CENTRAL || M == RENDER_ADDITIVE) {
+            nb = 0;
+            for (size_t k = 0; k < ns; k++)
+                if (T->hit[k]) {
+                    T->bx[nb] = T->p[k * 3], T->by[nb] = T->p[k * 3 + 1], T->bz[nb] = T->p[k * 3 + 2];
+                    T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1];
+                    T->bnz[nb] = T->n[k * 3 + 2];
+                    T->bidx[nb++] = (int)k;
+                }
+            cli_height_perturb(M == RENDER_ADDITIVE ? &C->analytic : &C->central,
+                               M == RENDER_ADDITIVE ? BG_PERTURB_ADDITIVE : BG_PERTURB_SURFGRAD,
+                               T->bx, T->by, T->bz, T->bnx, T->bny, T->bnz, nb, T->bh, T->box,
+                               T->boy, T->boz);
+            for (size_t b = 0; b < nb; b++) {
+                size_t k = (size_t)T->bidx[b];
+                out[k * 3] = T->box[b], out[k * 3 + 1] = T->boy[b], out[k * 3 + 2] = T->boz[b];
+            }
+            continue;
+        }
+        for (size_t k = 0; k < ns; k++) {
+            if (!T->hit[k])
+                continue;
+            float *o = out + k * 3;
+            const float *n = T->n + k * 3;
+            int i = (int)(k % (size_t)ts), j = (int)(k / (size_t)ts);
+            int lane = (i & 1) | ((j & 1) << 1);
+            int quad_ok = T->qok[k * 4] & T->qok[k * 4 + 1] & T->qok[k * 4 + 2] & T->qok[k * 4 + 3];
+            switch (M) {
+            case RENDER_NONE:
+                memcpy(o, n, 3 * sizeof(float));
+                break;
+            case RENDER_SURFGRAD:
+                memcpy(o, T->ref + k * 3, 3 * sizeof(float));
+                break;
+            case RENDER_LISTING1:
+            case RENDER_LISTING1_COARSE:
+                if (quad_ok)
+                    render_listing1((const float(*)[3])(T->qp + k * 12), T->qh + k * 4, lane,
+                                    M == RENDER_LISTING1, n, o);
+                else
+                    memcpy(o, n, 3 * sizeof(float));
+                break;
+            case RENDER_FLAT: {
+                float tau[4][3];
+                const float *qp = T->qp + k * 12, *qn = T->qn + k * 12;
+                for (int l = 0; l < 4; l++)
+                    for (int a = 0; a < 3; a++)
+                        tau[l][a] = qp[l * 3 + a] + T->qh[k * 4 + l] * qn[l * 3 + a];
+                if (quad_ok)
+                    flat_normal((const float(*)[3])tau, (const float(*)[3])qp, lane,
+                                T->nf + k * 3, o);
+                else
+                    memcpy(o, T->nf + k * 3, 3 * sizeof(float));
+                break;
+            }
+            default:
+                memcpy(o, n, 3 * sizeof(float));
+                break;
+            }
+        }
+    }
+
+    /* 5. Shade, resolve the s x s samples of each pixel, record the errors. */
+    const int px0 = tx * TILE, py0 = ty * TILE;
+    const float inv = 1.0f / (float)(ss * ss);
+    for (int mi = 0; mi < J->nmethods; mi++) {
+        const float *out = T->out + (size_t)mi * ns * 3;
+        for (int py = py0; py < py0 + TILE && py < J->height_px; py++)
+            for (int px = px0; px < px0 + TILE && px < J->width; px++) {
+                float acc[3] = {0, 0, 0}, esum = 0;
+                int ecount = 0;
+                for (int sj = 0; sj < ss; sj++)
+                    for (int si = 0; si < ss; si++) {
+                        int li = (px - px0) * ss + si, lj = (py - py0) * ss + sj;
+                        size_t k = (size_t)lj * ts + li;
+                        size_t g = (size_t)(py * ss + sj) * (size_t)SW + (size_t)(px * ss + si);
+                        float c[3];
+                        if (T->hit[k]) {
+                            const float *o = out + k * 3;
+                            shade(S, T->p + k * 3, T->dir + k * 3, o, c);
+                            bg_vec3 a = {o[0], o[1], o[2]}, b = {T->ref[k * 3], T->ref[k * 3 + 1],
+                                                                 T->ref[k * 3 + 2]};
+                            float e = (float)bg_angle_deg(a, b);
+                            if (!(e == e))
+                                e = 180.0f; /* a zero normal counts as a total failure */
+                            J->err[mi][g] = e;
+                            J->inward[mi][g] = dot3(o, T->n + k * 3) <= 0;
+                            esum += e;
+                            ecount++;
+                        } else {
+                            memcpy(c, background, sizeof c);
+                            J->err[mi][g] = NAN;
+                            J->inward[mi][g] = 0;
+                        }
+                        acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
+                    }
+                float *dst = J->rgb[mi] + ((size_t)py * J->width + px) * 3;
+                dst[0] = acc[0] * inv, dst[1] = acc[1] * inv, dst[2] = acc[2] * inv;
+                J->heat[mi][(size_t)py * J->width + px] = ecount ? esum / (float)ecount : NAN;
+            }
+    }
+}
+
+static void tile_worker(void *ctx, size_t begin, size_t end, int worker)
+{
+    run_ctx *C = ctx;
+    tile_buf T;
+    if (tile_alloc(&T, TILE * C->job->ss, C->job->nmethods) != 0) {
+        atomic_store(&C->failed, 1);
+        return;
+    }
+    for (size_t t = begin; t < end && !atomic_load(&C->failed); t++) {
+        tile_render(C, &T, (int)(t % (size_t)C->tiles_x), (int)(t / (size_t)C->tiles_x));
+        size_t done = atomic_fetch_add(&C->done, 1) + 1;
+        if (worker == 0 && C->job->progress)
+            cli_progress_update(&C->progress, done);
+    }
+    tile_free(&T);
+}
+
+void render_job_free(render_job *job)
+{
+    for (int i = 0; i < RENDER_MAX_METHODS; i++) {
+        free(job->rgb[i]);
+        free(job->heat[i]);
+        free(job->err[i]);
+        free(job->inward[i]);
+        job->rgb[i] = job->heat[i] = job->err[i] = NULL;
+        job->inward[i] = NULL;
+    }
+}
+
+int render_run(render_job *job)
+{
+    size_t npx = (size_t)job->width * job->height_px;
+    job->nsamples = npx * (size_t)job->ss * job->ss;
+    for (int i = 0; i < job->nmethods; i++) {
+        job->rgb[i] = malloc(npx * 3 * sizeof(float));
+        job->heat[i] = malloc(npx * sizeof(float));
+        job->err[i] = malloc(job->nsamples * sizeof(float));
+        job->inward[i] = malloc(job->nsamples);
+        if (!job->rgb[i] || !job->heat[i] || !job->err[i] || !job->inward[i]) {
+            render_job_free(job);
+            return CLI_FAIL;
+        }
+    }
+    run_ctx C;
+    memset(&C, 0, sizeof C);
+    C.job = job;
+    C.tiles_x = (job->width + TILE - 1) / TILE;
+    C.tiles_y = (job->height_px + TILE - 1) / TILE;
+    for (int i = 0; i < job->nmethods; i++)
+        if (job->methods[i] == RENDER_LISTING1 || job->methods[i] == RENDER_LISTING1_COARSE ||
+            job->methods[i] == RENDER_FLAT)
+            C.need_quads = 1;
+    /* The reference is always the analytic gradient; surfgrad-central always
+     * differences (with the --step the user gave). */
+    C.analytic = *job->height;
+    C.analytic.h.gradient = BG_GRADIENT_ANALYTIC;
+    C.central = *job->height;
+    C.central.h.gradient = BG_GRADIENT_CENTRAL;
+    atomic_init(&C.failed, 0);
+    atomic_init(&C.done, 0);
+    size_t ntiles = (size_t)C.tiles_x * C.tiles_y;
+    if (job->progress)
+        cli_progress_begin(&C.progress, "render", ntiles);
+    cli_parallel_for(ntiles, 1, job->threads, tile_worker, &C);
+    if (job->progress)
+        cli_progress_end(&C.progress);
+    if (atomic_load(&C.failed)) {
+        render_job_free(job);
+        return CLI_FAIL;
+    }
+    return 0;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+int render_stats_compute(const render_job *job, int k, render_stats *out)
+{
+    memset(out, 0, sizeof *out);
+    float *v = malloc((job->nsamples ? job->nsamples : 1) * sizeof *v);
+    if (!v)
+        return CLI_FAIL;
+    size_t n = 0, inward = 0;
+    double sum = 0;
+    for (size_t i = 0; i < job->nsamples; i++) {
+        float e = job->err[k][i];
+        if (e == e) {
+            v[n++] = e;
+            sum += e;
+            inward += job->inward[k][i];
+        }
+    }
+    out->hits = n;
+    if (n) {
+        qsort(v, n, sizeof *v, cmp_float);
+        out->mean_deg = sum / (double)n;
+        size_t r = (size_t)ceil(0.99 * (double)n);
+        out->p99_deg = v[r ? r - 1 : 0];
+        out->max_deg = v[n - 1];
+        out->inward_fraction = (double)inward / (double)n;
+    }
+    free(v);
+    return 0;
+}

@@ -1,0 +1,220 @@
+# SPDX-License-Identifier: MIT
+"""Tests of `bumpgrad render` (the paper's scenes, Mikkelsen 2010 Figures 1-3).
+
+Usage: test_render.py BUMPGRAD_EXE {presets|inward|density|none|determinism|badargs}
+
+Checks are properties, not numbers saved from an earlier run: image sizes follow
+from --size and the documented panel layout and are read back with OpenImageIO's
+`iinfo`; surfgrad (eq. 4) can never point inward while Perlin's additive method
+does on Figure 2's scene; Listing 1's error against surfgrad must fall as the
+pixel density rises (section 6); the same sample grid reached two ways (a larger
+image, or supersampling) must give the same statistics; `none` must equal the
+shading of an unbumped surface; bad arguments fail with exit 2 (usage) or 1
+(I/O) and leave an existing output alone.
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+EXE = os.path.abspath(sys.argv[1])
+FAILURES = []
+
+
+def check(cond, what):
+    if not cond:
+        FAILURES.append(what)
+        print("FAIL:", what)
+    else:
+        print("ok:", what)
+    return cond
+
+
+def run(args, cwd):
+    env = dict(os.environ)
+    env.pop("BUMPGRAD_ISA", None)
+    p = subprocess.run([EXE, "render"] + args, cwd=cwd, env=env, stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, timeout=120)
+    return p.returncode, p.stdout, p.stderr
+
+
+def stats(out, kind="stats"):
+    """{method: {key: float}} from the `stats method=M key=value ...` lines."""
+    res = {}
+    for line in out.splitlines():
+        if not line.startswith(kind + " "):
+            continue
+        kv = dict(f.split("=", 1) for f in line.split()[1:])
+        key = kv.pop("method")
+        if kind == "sweep":
+            key = (key, float(kv["density"]))
+        res[key] = {k: (float(v) if re.fullmatch(r"[-+0-9.eE]+", v) else v) for k, v in kv.items()}
+    return res
+
+
+def iinfo_size(path):
+    p = subprocess.run(["iinfo", path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    m = re.search(r":\s*(\d+)\s*x\s*(\d+)", p.stdout)
+    return (int(m.group(1)), int(m.group(2))) if p.returncode == 0 and m else None
+
+
+def panel_size(w, h, columns, rows):
+    """The layout of cmd_render.c's compose_panel: 4-px padding, a label strip of
+    font height + 6 above every image (font 8 px below 128 px wide), a colour
+    bar of label + 10 at the bottom."""
+    font = 16 if w >= 256 else 10 if w >= 128 else 8
+    lab, pad = font + 6, 4
+    return columns * (w + pad) + pad, rows * (lab + h + pad) + pad + lab + 10
+
+
+def t_presets(tmp):
+    for preset, rows in (("fig1", 2), ("fig2", 2), ("fig3", 3)):
+        out = os.path.join(tmp, preset + ".png")
+        rc, so, se = run(["--preset", preset, "--size", "64x64", "--output", out], tmp)
+        check(rc == 0, f"{preset}: exit 0 (got {rc}: {se.strip()})")
+        check(iinfo_size(out) == panel_size(64, 64, 2, rows),
+              f"{preset}: iinfo reads a {panel_size(64, 64, 2, rows)} PNG (got {iinfo_size(out)})")
+    # A single method writes exactly --size; EXR is float.
+    out = os.path.join(tmp, "one.exr")
+    rc, so, se = run(["--method", "surfgrad", "--size", "48x32", "--output", out], tmp)
+    check(rc == 0 and iinfo_size(out) == (48, 32), f"single EXR is 48x32 (got {iinfo_size(out)})")
+    info = subprocess.run(["iinfo", out], stdout=subprocess.PIPE, text=True).stdout
+    check("float" in info, "EXR output stores float pixels")
+    out = os.path.join(tmp, "blob.png")
+    rc, so, se = run(["--scene", "torus", "--grid", "20", "--method", "listing1", "--size", "40x30",
+                      "--output", out], tmp)
+    check(rc == 0 and iinfo_size(out) == (40, 30), "isosurface (torus) render is 40x30")
+
+
+def t_inward(tmp):
+    out = os.path.join(tmp, "fig2.png")
+    rc, so, se = run(["--preset", "fig2", "--size", "64x64", "--output", out], tmp)
+    s = stats(so)
+    check(rc == 0 and "additive" in s and "surfgrad" in s, "fig2 prints stats for both methods")
+    # Eq. 4 keeps n' on the outer side: dot(n', n) = 1 / |n - grad_S h| > 0.
+    check(s["surfgrad"]["inward"] == 0.0, "surfgrad never points inward on fig2")
+    # Section 5: additive overstates gradients below the tangent plane "up to
+    # pointing inward"; on this scene a visible part of the sphere does
+    # (about 2.6% of the samples at every size we measured; 1% is the bar).
+    check(s["additive"]["inward"] > 0.01, f"additive points inward on > 1% (got {s['additive']['inward']})")
+    check(s["additive"]["mean_deg"] > 5.0, "additive departs from surfgrad by > 5 degrees on average")
+    # surfgrad is never inward on any scene/method mix either.
+    rc, so, se = run(["--scene", "blob", "--grid", "16", "--function", "noise", "--amplitude", "0.6",
+                      "--compare", "surfgrad,surfgrad-central,additive", "--size", "48x48",
+                      "--output", os.path.join(tmp, "b.png")], tmp)
+    s = stats(so)
+    check(rc == 0 and s["surfgrad"]["inward"] == 0 and s["surfgrad-central"]["inward"] == 0,
+          "surfgrad and surfgrad-central never inward on a steep blob")
+    check(s["surfgrad-central"]["mean_deg"] < 0.5, "central differences stay close to analytic")
+
+
+def t_density(tmp):
+    # Smooth noise: Listing 1's forward differences are first order, so every
+    # doubling of the density should roughly halve the mean error.
+    rc, so, se = run(["--function", "noise", "--frequency", "3", "--amplitude", "0.1",
+                      "--compare", "listing1,listing1-coarse,flat", "--size", "64x64", "--sweep",
+                      "--output", os.path.join(tmp, "d.png")], tmp)
+    s = stats(so, "sweep")
+    check(rc == 0, "sweep runs")
+    for m in ("listing1", "listing1-coarse", "flat"):
+        e = [s[(m, d)]["mean_deg"] for d in (0.5, 1.0, 2.0, 4.0)]
+        check(all(a > b for a, b in zip(e, e[1:])), f"{m}: error falls with density {e}")
+        check(e[3] < 0.5 * e[1], f"{m}: 4x density at least halves the error {e[1]} -> {e[3]}")
+    # The same sample grid two ways: a 2x larger image equals 2x2 supersampling.
+    rc, so, se = run(["--function", "noise", "--frequency", "3", "--amplitude", "0.1",
+                      "--method", "listing1", "--size", "32x32", "--spp", "4", "--output",
+                      os.path.join(tmp, "e.png")], tmp)
+    keys = ("mean_deg", "p99_deg", "max_deg", "inward", "hits")
+    a = [s[("listing1", 1.0)][k] for k in keys]
+    b = [stats(so)["listing1"][k] for k in keys]
+    check(rc == 0 and a == b, f"64x64 spp 1 and 32x32 spp 4 give the same Listing 1 statistics {a} {b}")
+    # Figure 3's scene (6-octave turbulence): listing1 departs at low density.
+    rc, so, se = run(["--preset", "fig3", "--size", "96x96", "--output", os.path.join(tmp, "f3.png")], tmp)
+    s = stats(so, "sweep")
+    lo, hi = s[("listing1", 0.25)]["mean_deg"], s[("listing1", 4.0)]["mean_deg"]
+    check(rc == 0 and hi < lo, f"fig3: listing1 error at 4x density below 1/4x ({hi} < {lo})")
+
+
+def t_none(tmp):
+    # `none` shades the interpolated normal; surfgrad with a zero amplitude
+    # perturbs by nothing, so both images must agree (to float rounding of the
+    # renormalization) and the angle between them must vanish.
+    a, b = os.path.join(tmp, "none.exr"), os.path.join(tmp, "flat.exr")
+    rc1, so, _ = run(["--method", "none", "--size", "48x48", "--output", a], tmp)
+    rc2, _, _ = run(["--method", "surfgrad", "--amplitude", "0", "--size", "48x48", "--output", b], tmp)
+    check(rc1 == 0 and rc2 == 0, "none and zero-amplitude renders run")
+    d = subprocess.run(["idiff", "-fail", "1e-5", "-failpercent", "0", a, b], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True)
+    check(d.returncode == 0, f"none == unbumped shading (idiff: {d.stdout.strip().splitlines()[-1:]})")
+    s = stats(so)
+    check(s["none"]["mean_deg"] > 1.0, "none differs from the bumped surfgrad (default amplitude)")
+    rc, so, _ = run(["--compare", "none,surfgrad", "--amplitude", "0", "--size", "32x32", "--output",
+                     os.path.join(tmp, "z.png")], tmp)
+    check(stats(so)["none"]["max_deg"] < 0.01, "zero amplitude: none and surfgrad agree")
+
+
+def t_determinism(tmp):
+    outs = []
+    for th in ("1", "2"):
+        o = os.path.join(tmp, f"d{th}.exr")
+        rc, so, _ = run(["--preset", "fig1", "--size", "40x40", "--spp", "4", "--threads", th,
+                         "--output", o], tmp)
+        check(rc == 0, f"--threads {th} runs")
+        outs.append([l for l in so.splitlines() if l.startswith("stats")])
+    check(outs[0] == outs[1], "1 and 2 threads print identical statistics")
+    # The files differ only in their DateTime metadata: compare the pixels exactly.
+    d = subprocess.run(["idiff", "-fail", "0", "-failpercent", "0", os.path.join(tmp, "d1.exr"),
+                        os.path.join(tmp, "d2.exr")], stdout=subprocess.PIPE, text=True)
+    check(d.returncode == 0, "1 and 2 threads give identical pixels")
+
+
+def t_badargs(tmp):
+    old = os.path.join(tmp, "old.png")
+    with open(old, "wb") as f:
+        f.write(b"previous contents")
+    cases = [
+        (["--method", "bogus"], 2, "unknown method"),
+        (["--compare", "surfgrad,nope"], 2, "unknown method"),
+        (["--size", "64x"], 2, "--size"),
+        (["--size", "0x10"], 2, "--size"),
+        (["--spp", "3"], 2, "--spp"),
+        (["--scene", "cube"], 2, "--scene"),
+        (["--preset", "fig9"], 2, "--preset"),
+        (["--frequency", "-1"], 2, "--frequency"),
+        (["--bogus-option", "1"], 2, "unknown option"),
+    ]
+    for args, code, msg in cases:
+        small = [] if "--size" in args else ["--size", "16x16"]
+        rc, so, se = run(args + small + ["--output", old], tmp)
+        check(rc == code and msg in se, f"{args}: exit {code} naming '{msg}' (got {rc}: {se.strip()})")
+        check(open(old, "rb").read() == b"previous contents", f"{args}: old output untouched")
+    rc, so, se = run(["--size", "16x16", "--output", os.path.join(tmp, "x.gif")], tmp)
+    check(rc == 2 and ".png or .exr" in se, f"unsupported extension: exit 2 (got {rc})")
+    rc, so, se = run(["--size", "16x16"], tmp)
+    check(rc == 2 and "--output" in se, "missing --output: exit 2")
+    # Unwritable: the parent is a regular file (works even for root).
+    rc, so, se = run(["--size", "16x16", "--output", os.path.join(old, "x.png")], tmp)
+    check(rc == 1 and "cannot write" in se, f"unwritable folder: exit 1 (got {rc}: {se.strip()})")
+    # The target is a directory: the write itself fails, nothing is replaced.
+    d = os.path.join(tmp, "dir.png")
+    os.mkdir(d)
+    rc, so, se = run(["--size", "16x16", "--output", d], tmp)
+    check(rc == 1 and os.path.isdir(d), f"output path is a folder: exit 1, folder kept (got {rc})")
+    left = [f for f in os.listdir(tmp) if ".tmp" in f]
+    check(not left, f"no temporary files left behind ({left})")
+
+
+TESTS = {"presets": t_presets, "inward": t_inward, "density": t_density, "none": t_none,
+         "determinism": t_determinism, "badargs": t_badargs}
+
+if __name__ == "__main__":
+    if shutil.which("iinfo") is None or shutil.which("idiff") is None:
+        print("SKIP: OpenImageIO's iinfo/idiff not found")
+        sys.exit(77)
+    with tempfile.TemporaryDirectory() as tmp:
+        TESTS[sys.argv[2]](tmp)
+    if FAILURES:
+        print(f"{len(FAILURES)} failure(s)")
+        sys.exit(1)

@@ -1,0 +1,186 @@
+/* SPDX-License-Identifier: MIT */
+/* Unit tests of the renderer's pieces that the command-line tests cannot see:
+ *  - Listing 1 on a 2x2 quad of a plane with a linear height is exact: the
+ *    screen-space derivatives of linear functions are exact, so eq. (3) and
+ *    Listing 1 must give normalize(n - grad_S h) (eq. 2, 4) for any plane,
+ *    orientation, quad lane, fine or coarse derivative. The reference is
+ *    computed here in double from the formula, sharing no code.
+ *  - The marching-tetrahedra isosurface and its BVH: the BVH's closest hit
+ *    equals a brute-force loop over all triangles; rays aimed at the blob's
+ *    centre (which is inside) all hit, on the side their vertex normals face;
+ *    vertex normals are unit and face normals agree with them. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include "render.h"
+
+static int failures;
+#define CHECK(c, ...)                                     \
+    do {                                                  \
+        if (!(c)) {                                       \
+            failures++;                                   \
+            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
+            fprintf(stderr, __VA_ARGS__);                 \
+            fputc('\n', stderr);                          \
+        }                                                 \
+    } while (0)
+
+static unsigned long long rng = 0x9E3779B97F4A7C15ull;
+static double urand(void) /* [-1, 1), xorshift64* */
+{
+    rng ^= rng >> 12, rng ^= rng << 25, rng ^= rng >> 27;
+    return (double)((rng * 2685821657736338717ull) >> 11) / 4503599627370496.0 - 1.0;
+}
+
+static void test_listing1_plane(void)
+{
+    double worst = 0;
+    for (int trial = 0; trial < 2000; trial++) {
+        double a[3], b[3], c[3], o[3];
+        for (int k = 0; k < 3; k++)
+            a[k] = urand() * 0.01, b[k] = urand() * 0.01, c[k] = urand() * 3, o[k] = urand();
+        double nn[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        double l = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+        /* Badly conditioned quads (nearly parallel sigma_s, sigma_t) lose
+         * float digits in any implementation; keep the angle above ~3 degrees. */
+        double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        double lb = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        if (l < 0.05 * la * lb)
+            continue;
+        double side = (trial & 1) ? -1.0 : 1.0; /* either orientation of n */
+        for (int k = 0; k < 3; k++)
+            nn[k] = side * nn[k] / l;
+        float pos[4][3], h[4], n[3] = {(float)nn[0], (float)nn[1], (float)nn[2]};
+        for (int lane = 0; lane < 4; lane++) {
+            double s = lane & 1, t = lane >> 1, hv = 0.25;
+            for (int k = 0; k < 3; k++) {
+                double p = o[k] + s * a[k] + t * b[k];
+                pos[lane][k] = (float)p;
+            }
+            for (int k = 0; k < 3; k++)
+                hv += c[k] * pos[lane][k];
+            h[lane] = (float)hv;
+        }
+        /* Reference: eq. 2 and 4 in double, with n and the gradient c. */
+        double d = nn[0] * c[0] + nn[1] * c[1] + nn[2] * c[2], r[3];
+        for (int k = 0; k < 3; k++)
+            r[k] = nn[k] - (c[k] - nn[k] * d);
+        double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        for (int fine = 0; fine < 2; fine++)
+            for (int lane = 0; lane < 4; lane++) {
+                float out[3];
+                render_listing1((const float(*)[3])pos, h, lane, fine, n, out);
+                double dot = (out[0] * r[0] + out[1] * r[1] + out[2] * r[2]) / rl;
+                double ang = acos(dot > 1 ? 1 : dot) * 57.29577951308232;
+                if (ang > worst)
+                    worst = ang;
+            }
+    }
+    /* Float positions and heights of a 0.01-sized quad: the differences keep
+     * about 5 digits, so a few hundredths of a degree is the honest bound. */
+    CHECK(worst < 0.05, "Listing 1 on planes with linear height: worst angle %g deg", worst);
+    printf("listing1 on linear planes: worst angle %.2e deg\n", worst);
+}
+
+static void test_listing1_degenerate(void)
+{
+    /* A quad collapsed to a line: det = 0; HLSL's sign(0) would give a zero
+     * vector, we keep the normal. */
+    float pos[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 0, 0}, {1, 0, 0}}, h[4] = {0, 1, 2, 3};
+    float n[3] = {0, 0, 1}, out[3];
+    render_listing1((const float(*)[3])pos, h, 0, 1, n, out);
+    CHECK(out[0] == 0 && out[1] == 0 && out[2] == 1, "degenerate quad keeps n");
+}
+
+static int brute(const render_mesh *m, const float o[3], const float d[3], render_hit *best)
+{
+    int found = 0;
+    float tmax = INFINITY;
+    for (size_t t = 0; t < m->ntri; t++) {
+        render_mesh one = *m;
+        render_bvh_node leaf = {{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}, -1,
+                                (int)t, 1};
+        one.nodes = &leaf;
+        one.nnodes = 1;
+        render_hit h;
+        if (render_mesh_intersect(&one, o, d, tmax, &h)) {
+            *best = h;
+            tmax = h.t;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+static void test_mesh(render_shape shape)
+{
+    render_mesh m;
+    CHECK(render_mesh_build(shape, 20, &m) == 0, "mesh builds");
+    if (m.ntri == 0)
+        return;
+    double worst_unit = 0;
+    int bad_face = 0;
+    for (size_t t = 0; t < m.ntri; t++)
+        for (int v = 0; v < 3; v++) {
+            const float *n = m.nrm + t * 9 + v * 3, *f = m.face + t * 3;
+            double l = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+            if (fabs(l - 1) > worst_unit)
+                worst_unit = fabs(l - 1);
+            bad_face += n[0] * f[0] + n[1] * f[1] + n[2] * f[2] <= 0;
+        }
+    CHECK(worst_unit < 1e-5, "vertex normals unit (worst %g)", worst_unit);
+    CHECK(bad_face == 0, "%d vertex normals face away from their triangle", bad_face);
+    int mismatch = 0, missed = 0, backside = 0;
+    for (int r = 0; r < 300; r++) {
+        float o[3], d[3], target[3] = {0, 0, 0};
+        double u = urand(), v = urand(), w = urand(), l = sqrt(u * u + v * v + w * w) + 1e-9;
+        o[0] = (float)(3 * u / l), o[1] = (float)(3 * v / l), o[2] = (float)(3 * w / l);
+        if (shape == RENDER_TORUS) /* aim at random points near the ring */
+            for (int k = 0; k < 3; k++)
+                target[k] = (float)(0.4 * urand());
+        for (int k = 0; k < 3; k++)
+            d[k] = target[k] - o[k];
+        float dl = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int k = 0; k < 3; k++)
+            d[k] /= dl;
+        render_hit a, b;
+        int ha = render_mesh_intersect(&m, o, d, INFINITY, &a), hb = brute(&m, o, d, &b);
+        if (ha != hb || (ha && a.t != b.t))
+            mismatch++;
+        if (shape == RENDER_BLOB && !ha)
+            missed++;
+        if (ha) {
+            const float *f = m.face + (size_t)a.prim * 3;
+            backside += f[0] * d[0] + f[1] * d[1] + f[2] * d[2] >= 0;
+        }
+    }
+    CHECK(mismatch == 0, "%s: BVH and brute force disagree on %d of 300 rays",
+          render_shape_name(shape), mismatch);
+    CHECK(missed == 0, "%s: %d rays at the inside point missed", render_shape_name(shape), missed);
+    CHECK(backside == 0, "%s: %d first hits on a back face", render_shape_name(shape), backside);
+    printf("%s: %zu triangles, BVH nodes %zu\n", render_shape_name(shape), m.ntri, m.nnodes);
+    render_mesh_free(&m);
+}
+
+static void test_names(void)
+{
+    for (int i = 0; i < RENDER_METHOD_COUNT; i++) {
+        render_method m;
+        CHECK(render_method_parse(render_method_name((render_method)i), &m) == 0 && (int)m == i,
+              "method name round trip %d", i);
+    }
+    render_method m;
+    CHECK(render_method_parse("Surfgrad", &m) != 0, "method names are exact");
+}
+
+int main(void)
+{
+    test_listing1_plane();
+    test_listing1_degenerate();
+    test_mesh(RENDER_BLOB);
+    test_mesh(RENDER_TORUS);
+    test_names();
+    if (failures)
+        fprintf(stderr, "%d failure(s)\n", failures);
+    return failures ? 1 : 0;
+}
