@@ -42,9 +42,14 @@ typedef enum bg_function {
 /** Default octave count (Perlin 1985, Mikkelsen 2010 section 6: six octaves). */
 #define BG_DEFAULT_OCTAVES 6
 /** Default step of the central-difference gradient, in noise-space units.
- *  Chosen from the measured float32 error curve (docs/ACCURACY.md): the error
- *  of float central differences is smallest for h between 1e-3 and 1e-2. */
-#define BG_DEFAULT_CENTRAL_STEP 2e-3f
+ *  Chosen from the measured float32 error curve (docs/ACCURACY.md): for the
+ *  default 6-octave fBm/turbulence the mean gradient error is smallest at
+ *  h = 2e-4 (4e-4, against 1.7e-2 at 2e-3), for coordinates up to 1e3; the top
+ *  octave runs at 32x the frequency, so its truncation error sets the optimum
+ *  (single-octave noise alone would prefer 2e-3). The step must exceed half the
+ *  float spacing of the coordinate, or x+h == x-h and that gradient component
+ *  is reported as 0: with 2e-4 that happens from |coordinate| = 4096 on. */
+#define BG_DEFAULT_CENTRAL_STEP 2e-4f
 
 /** Fractal sum parameters. Octave i (0-based) samples noise at
  *  lacunarity^i * p with weight gain^i. */
@@ -87,7 +92,9 @@ BG_API float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg
 
 /** Fractal value and central-difference gradient with step `h` (> 0): each
  *  component is (F(x+h) - F(x-h)) / ((x+h) - (x-h)), dividing by the step
- *  actually taken in floating point, not by the nominal 2h. 7 evaluations. */
+ *  actually taken in floating point, not by the nominal 2h. 7 evaluations.
+ *  If h is below the float spacing at x, so that x + h == x - h, that component
+ *  is 0 (no slope can be measured), never NaN. */
 BG_API float bg_fractal3_grad_central(const bg_fractal *f, float h, float x, float y, float z,
                                       bg_vec3 *grad);
 
@@ -122,6 +129,34 @@ BG_API void bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const fl
 BG_API void bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
                                            const float *y, const float *z, size_t n, float *value,
                                            float *gx, float *gy, float *gz);
+
+/* ---- footprint-aware evaluation ("model no more than a scene needs") -------
+ * A sample that covers a footprint of width w (in noise-space units: the pixel's
+ * footprint on the surface times the frequency) cannot show noise features
+ * smaller than 2w (Nyquist: Perlin noise has one lattice cell per unit). Octave i
+ * has cells 1/L^i wide, so its resolution ratio is r_i = w L^i. Its weight is
+ * c_i = clamp(2 - 4 r_i, 0, 1): 1 while r_i <= 1/4, fading linearly to 0 at the
+ * Nyquist limit r_i = 1/2. For lacunarity 2 the fade spans exactly one octave, so
+ * the sum changes continuously with w (no popping as the footprint changes), and
+ * octaves with c_i = 0 are not evaluated at all. w = 0 keeps every octave and gives
+ * the same bits as the unfiltered call. */
+
+/** Weight c_i of octave `octave` (0-based) for footprint `footprint` (>= 0, noise
+ *  space) and lacunarity `lacunarity`. NaN footprint: 1 (no filtering). */
+BG_API float bg_octave_weight(float footprint, float lacunarity, int octave);
+
+/** Effective octave count for lacunarity 2: sum of the weights c_i of octaves
+ *  0..max_octaves-1 (fractional when the last kept octave is fading), e.g. 6 for a
+ *  tiny footprint, about 2.5 for footprint 1/16, 0 at footprint >= 1/2. */
+BG_API float bg_octaves_for_footprint(float footprint, int max_octaves);
+
+/** Fractal value and analytic gradient with per-sample footprints (noise space):
+ *  octave i is weighted by c_i as above and skipped where c_i = 0 for every
+ *  sample. `value` may be NULL. Uses the dispatched noise kernel per octave. */
+BG_API void bg_fractal3_grad_footprint_batch(const bg_fractal *f, const float *footprint,
+                                             const float *x, const float *y, const float *z,
+                                             size_t n, float *value, float *gx, float *gy,
+                                             float *gz);
 
 /** Double batches (scalar loops over the double entry points). `value` may be NULL. */
 BG_API void bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const double *y,

@@ -105,6 +105,18 @@ BG_API void bg_perturb_height_batch(const bg_height *h, bg_perturb_method method
                                     const float *nx, const float *ny, const float *nz, size_t n,
                                     float *height, float *ox, float *oy, float *oz);
 
+/** The fused call with a per-sample footprint (world units, e.g. the pixel's
+ *  footprint on the surface from ray differentials): octaves finer than the
+ *  footprint can show are faded out and not evaluated (bg_octave_weight, with
+ *  footprint * frequency in noise space). Always the analytic gradient. `height`
+ *  may be NULL. With every footprint 0 the result equals bg_perturb_height_batch
+ *  with the analytic gradient, bit for bit. */
+BG_API void bg_perturb_height_footprint_batch(const bg_height *h, bg_perturb_method method,
+                                              const float *footprint, const float *px,
+                                              const float *py, const float *pz, const float *nx,
+                                              const float *ny, const float *nz, size_t n,
+                                              float *height, float *ox, float *oy, float *oz);
+
 #ifdef __cplusplus
 }
 #endif

@@ -52,6 +52,9 @@ static void render_help(FILE *fp)
           "  listing1-coarse   Listing 1 with one derivative per quad (ddx_coarse)\n"
           "  additive          Perlin's normalize(n - grad h) (Figure 2a)\n"
           "  flat              cross(tau_s, tau_t) of the displaced position (Figure 1a)\n"
+          "  surfgrad-footprint  surfgrad without the octaves finer than each sample's\n"
+          "                    footprint (from its ray differential); the last kept octave\n"
+          "                    fades out smoothly (bg_perturb_height_footprint_batch)\n"
           "\n"
           "Options:\n"
           "  --method M          perturbation method (default surfgrad)\n"
@@ -90,7 +93,7 @@ static int add_method(render_opts *o, const char *name)
     if (render_method_parse(name, &m) != 0)
         return cli_usage_error(CMD,
                                "unknown method \"%s\" (expected none, surfgrad, surfgrad-central, "
-                               "listing1, listing1-coarse, additive or flat)",
+                               "listing1, listing1-coarse, additive, flat or surfgrad-footprint)",
                                name);
     if (o->nmethods == RENDER_MAX_METHODS)
         return cli_usage_error(CMD, "--compare: at most %d methods", RENDER_MAX_METHODS);

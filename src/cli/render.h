@@ -21,7 +21,8 @@ typedef enum render_method {
     RENDER_LISTING1_COARSE = 4,  /* Listing 1 with one derivative per quad */
     RENDER_ADDITIVE = 5,         /* Perlin: normalize(n - grad h), Figure 2(a) */
     RENDER_FLAT = 6,             /* cross(tau_s, tau_t) of the displaced position, Figure 1(a) */
-    RENDER_METHOD_COUNT = 7
+    RENDER_SURFGRAD_FOOTPRINT = 7, /* Listing 3 with no octave finer than the sample's footprint */
+    RENDER_METHOD_COUNT = 8
 } render_method;
 
 const char *render_method_name(render_method m);

@@ -22,7 +22,8 @@
 #define TILE 8 /* output pixels per tile side */
 
 static const char *const method_names[RENDER_METHOD_COUNT] = {
-    "none", "surfgrad", "surfgrad-central", "listing1", "listing1-coarse", "additive", "flat"};
+    "none", "surfgrad", "surfgrad-central", "listing1", "listing1-coarse", "additive", "flat",
+    "surfgrad-footprint"};
 
 const char *render_method_name(render_method m)
 {
@@ -370,7 +371,33 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
     for (int mi = 0; mi < J->nmethods; mi++) {
         render_method M = J->methods[mi];
         float *out = T->out + (size_t)mi * ns * 3;
-        if (M == RENDER_SURFGRAD_CENTRAL || M == RENDER_ADDITIVE) {
+        if (M == RENDER_SURFGRAD_FOOTPRINT && !C->analytic.grid_path) {
+            /* The sample's footprint on the surface from its ray differential: the
+             * angle between neighbouring samples times the hit distance, stretched
+             * by 1/cos of the view angle (the long axis of the footprint ellipse,
+             * so no octave aliases along it; capped at 64x at grazing angles). */
+            const float ang = 2.0f * S->tan_half / (float)SH;
+            nb = 0;
+            for (size_t k = 0; k < ns; k++)
+                if (T->hit[k]) {
+                    const float *p = T->p + k * 3, *n = T->n + k * 3, *d = T->dir + k * 3;
+                    float w[3] = {p[0] - S->eye[0], p[1] - S->eye[1], p[2] - S->eye[2]};
+                    float c = fabsf(dot3(d, n));
+                    T->bh[nb] = sqrtf(dot3(w, w)) * ang / (c > 1.0f / 64 ? c : 1.0f / 64);
+                    T->bx[nb] = p[0], T->by[nb] = p[1], T->bz[nb] = p[2];
+                    T->bnx[nb] = n[0], T->bny[nb] = n[1], T->bnz[nb] = n[2];
+                    T->bidx[nb++] = (int)k;
+                }
+            bg_perturb_height_footprint_batch(&C->analytic.h, BG_PERTURB_SURFGRAD, T->bh, T->bx,
+                                              T->by, T->bz, T->bnx, T->bny, T->bnz, nb, NULL,
+                                              T->box, T->boy, T->boz);
+            for (size_t b = 0; b < nb; b++) {
+                size_t k = (size_t)T->bidx[b];
+                out[k * 3] = T->box[b], out[k * 3 + 1] = T->boy[b], out[k * 3 + 2] = T->boz[b];
+            }
+            continue;
+        }
+        if (M == RENDER_SURFGRAD_CENTRAL || M == RENDER_ADDITIVE || M == RENDER_SURFGRAD_FOOTPRINT) {
             nb = 0;
             for (size_t k = 0; k < ns; k++)
                 if (T->hit[k]) {
@@ -379,7 +406,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                     T->bnz[nb] = T->n[k * 3 + 2];
                     T->bidx[nb++] = (int)k;
                 }
-            cli_height_perturb(M == RENDER_ADDITIVE ? &C->analytic : &C->central,
+            cli_height_perturb(M == RENDER_SURFGRAD_CENTRAL ? &C->central : &C->analytic,
                                M == RENDER_ADDITIVE ? BG_PERTURB_ADDITIVE : BG_PERTURB_SURFGRAD,
                                T->bx, T->by, T->bz, T->bnx, T->bny, T->bnz, nb, T->bh, T->box,
                                T->boy, T->boz);
