@@ -66,8 +66,8 @@ static int chart(st_out *o, const char *name, const char *csv, const char *title
                 "set terminal pngcairo size 900,560 noenhanced\nset output '%s'\n"
                 "set title '%s'\nset xlabel '%s'\nset ylabel '%s'\n%s%s"
                 "data = '%s'\n%s\n",
-                tmp, title, xlabel, ylabel, logx ? "set logscale x\n" : "",
-                logy ? "set logscale y\n" : "", data, plot);
+                tmp, title, xlabel, ylabel, logx ? "set logscale x\nset format x '%.0e'\n" : "",
+                logy ? "set logscale y\nset format y '%.0e'\n" : "", data, plot);
         rc = cli_outfile_commit(CMD, &of);
     }
     if (rc == 0) {
