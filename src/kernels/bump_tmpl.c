@@ -7,17 +7,25 @@
  * lane count except the loop stride, so every ISA gives the same bits. */
 #include "vec.h"
 
+/* gcc declines to inline noise_vec (large) into the batch loops and then passes
+ * whole vectors through memory on every call: force it. */
+#if defined(__GNUC__) || defined(__clang__)
+#define BG_INLINE static inline __attribute__((always_inline))
+#else
+#define BG_INLINE static inline
+#endif
+
 /* ---- Perlin's improved noise (2002 reference) ------------------------------ */
 
 /* fade(t) = 6t^5 - 15t^4 + 10t^3, evaluated in the reference's order. */
-static inline vf fade(vf t)
+BG_INLINE vf fade(vf t)
 {
     vf inner = vf_add(vf_mul(t, vf_sub(vf_mul(t, vf_set1(6)), vf_set1(15))), vf_set1(10));
     return vf_mul(vf_mul(vf_mul(t, t), t), inner);
 }
 
 /* fade'(t) = 30 t^2 (t - 1)^2, written as 30t^2 (t(t - 2) + 1). */
-static inline vf dfade(vf t)
+BG_INLINE vf dfade(vf t)
 {
     vf q = vf_add(vf_mul(t, vf_sub(t, vf_set1(2))), vf_set1(1));
     return vf_mul(vf_mul(vf_set1(30), vf_mul(t, t)), q);
@@ -32,27 +40,27 @@ typedef struct corner {
     vf v, gx, gy, gz;
 } corner;
 
-static inline corner grad_corner(vi hash, vf dx, vf dy, vf dz)
+/* The three gradient components of each hash & 15, tabulated from the selects
+ * above (so +-1 and +0, exactly what the selects produced): vf_lut16 is one
+ * in-register permute on AVX-512 (vpermps ignores the index bits above 3) and
+ * two on AVX2, instead of a dozen compares and blends. */
+static const bg_real grad_tab_x[16] = {1, -1, 1, -1, 1, -1, 1, -1, 0, 0, 0, 0, 1, 0, -1, 0};
+static const bg_real grad_tab_y[16] = {1, 1, -1, -1, 0, 0, 0, 0, 1, -1, 1, -1, 1, -1, 1, -1};
+static const bg_real grad_tab_z[16] = {0, 0, 0, 0, 1, 1, -1, -1, 1, 1, -1, -1, 0, 1, 0, -1};
+
+BG_INLINE corner grad_corner(vi hash, vf dx, vf dy, vf dz)
 {
-    vi h = vi_and(hash, vi_set1(15));
-    vm u_is_x = vi_lt(h, vi_set1(8));
-    vm v_is_y = vi_lt(h, vi_set1(4));
-    vm v_is_x = vm_and(vm_not(v_is_y), vm_or(vi_eq(h, vi_set1(12)), vi_eq(h, vi_set1(14))));
-    vm v_is_z = vm_and(vm_not(v_is_y), vm_not(v_is_x));
-    vf su = vf_sel(vi_test(h, vi_set1(1)), vf_set1(-1), vf_set1(1));
-    vf sv = vf_sel(vi_test(h, vi_set1(2)), vf_set1(-1), vf_set1(1));
-    vf zero = vf_set1(0);
     corner c;
-    c.gx = vf_sel(u_is_x, su, vf_sel(v_is_x, sv, zero));
-    c.gy = vf_sel(u_is_x, vf_sel(v_is_y, sv, zero), su);
-    c.gz = vf_sel(v_is_z, sv, zero);
+    c.gx = vf_lut16(grad_tab_x, hash);
+    c.gy = vf_lut16(grad_tab_y, hash);
+    c.gz = vf_lut16(grad_tab_z, hash);
     c.v = vf_add(vf_add(vf_mul(c.gx, dx), vf_mul(c.gy, dy)), vf_mul(c.gz, dz));
     return c;
 }
 
 /* lerp(t, a, b) = a + t (b - a), the reference's form, carried with its gradient:
  * t depends on one axis only (dt along that axis). */
-static inline corner lerp_x(vf t, vf dt, corner a, corner b)
+BG_INLINE corner lerp_x(vf t, vf dt, corner a, corner b)
 {
     corner r;
     vf dv = vf_sub(b.v, a.v);
@@ -62,7 +70,7 @@ static inline corner lerp_x(vf t, vf dt, corner a, corner b)
     r.gz = vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz)));
     return r;
 }
-static inline corner lerp_y(vf t, vf dt, corner a, corner b)
+BG_INLINE corner lerp_y(vf t, vf dt, corner a, corner b)
 {
     corner r;
     vf dv = vf_sub(b.v, a.v);
@@ -72,7 +80,7 @@ static inline corner lerp_y(vf t, vf dt, corner a, corner b)
     r.gz = vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz)));
     return r;
 }
-static inline corner lerp_z(vf t, vf dt, corner a, corner b)
+BG_INLINE corner lerp_z(vf t, vf dt, corner a, corner b)
 {
     corner r;
     vf dv = vf_sub(b.v, a.v);
@@ -84,44 +92,70 @@ static inline corner lerp_z(vf t, vf dt, corner a, corner b)
 }
 
 /* Split a coordinate into its lattice cell modulo 256 and its fraction.
- * The cell is reduced in floating point (cell - 256 floor(cell / 256), exact for
- * every finite value since /256 is a power of two) before the integer conversion,
- * so large coordinates neither overflow nor lose the period. NaN/Inf give a NaN
- * fraction (and so a NaN result) and cell 0, so no out-of-range index is formed. */
-static inline vf lattice(vf x, vi *cell)
+ * Large coordinates neither overflow nor lose the period; NaN/Inf give a NaN
+ * fraction (and so a NaN result) and cell 0, so no out-of-range index is formed.
+ * Float: vi_cell256 (floor mod 256, 0 for NaN/Inf) is exact for every float,
+ * since from 2^31 up every float is a multiple of 256. Double: the cell is
+ * reduced in floating point (cell - 256 floor(cell / 256), exact since /256 is a
+ * power of two) before the conversion, as doubles above 2^31 need not be. */
+BG_INLINE vf lattice(vf x, vi *cell)
 {
     vf fl = vf_floor(x);
+#ifdef BG_SCALAR_DOUBLE
     vf c = vf_sub(fl, vf_mul(vf_set1(256), vf_floor(vf_mul(fl, vf_set1((bg_real)(1.0 / 256))))));
     vm ok = vm_and(vf_le(vf_set1(0), c), vf_lt(c, vf_set1(256)));
     *cell = vi_from_vf(vf_sel(ok, c, vf_set1(0)));
+#else
+    *cell = vi_cell256(fl);
+#endif
     return vf_sub(x, fl);
 }
 
+#ifndef BG_HAVE_HASH8
+/* The reference's hash chain A = p[X]+Y, AA = p[A]+Z, ... and the 8 corner
+ * hashes p[AA], p[AA+1], ... Every index is used modulo 256 (the 512-entry table
+ * is two copies), and the chain always needs p[i] together with p[i+1]: one
+ * bg_perm_pair lookup gives both, so 7 lookups replace Perlin's 12 (a gather is
+ * the expensive step on every ISA). h[k] is the hash of corner k (bit 0: x + 1,
+ * bit 1: y + 1, bit 2: z + 1) in its low 8 bits; higher bits are the other
+ * corner's (vf_lut16 uses only the low 4). A vocabulary may provide its own
+ * vi_hash8 with the same low 4 bits per corner. */
+BG_INLINE void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+{
+    vi m = vi_set1(255);
+    vi q = vi_perm2(X);
+    vi A = vi_add(vi_and(q, m), Y), B = vi_add(vi_srl8(q), Y);
+    vi qa = vi_perm2(A), qb = vi_perm2(B);
+    vi AA = vi_add(vi_and(qa, m), Z), AB = vi_add(vi_srl8(qa), Z);
+    vi BA = vi_add(vi_and(qb, m), Z), BB = vi_add(vi_srl8(qb), Z);
+    vi q00 = vi_perm2(AA), q01 = vi_perm2(AB), q10 = vi_perm2(BA), q11 = vi_perm2(BB);
+    h[0] = q00, h[4] = vi_srl8(q00); /* p[AA], p[AA+1] */
+    h[2] = q01, h[6] = vi_srl8(q01); /* p[AB], p[AB+1] */
+    h[1] = q10, h[5] = vi_srl8(q10); /* p[BA], p[BA+1] */
+    h[3] = q11, h[7] = vi_srl8(q11); /* p[BB], p[BB+1] */
+}
+#endif
+
 /* Improved noise at one vector of points; the gradient only when `want_grad`
  * (a constant after inlining, so the value-only kernel does no gradient work). */
-static inline corner noise_vec(vf x, vf y, vf z, int want_grad)
+BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
 {
     vi X, Y, Z;
     vf fx = lattice(x, &X), fy = lattice(y, &Y), fz = lattice(z, &Z);
     vf u = fade(fx), v = fade(fy), w = fade(fz);
 
-    /* The reference's hash chain: A = p[X]+Y, AA = p[A]+Z, ... (12 lookups). */
-    vi one = vi_set1(1);
-    vi A = vi_add(vi_perm(X), Y), B = vi_add(vi_perm(vi_add(X, one)), Y);
-    vi AA = vi_add(vi_perm(A), Z), AB = vi_add(vi_perm(vi_add(A, one)), Z);
-    vi BA = vi_add(vi_perm(B), Z), BB = vi_add(vi_perm(vi_add(B, one)), Z);
-
     vf x1 = vf_sub(fx, vf_set1(1)), y1 = vf_sub(fy, vf_set1(1)), z1 = vf_sub(fz, vf_set1(1));
-    corner c000 = grad_corner(vi_perm(AA), fx, fy, fz);
-    corner c100 = grad_corner(vi_perm(BA), x1, fy, fz);
-    corner c010 = grad_corner(vi_perm(AB), fx, y1, fz);
-    corner c110 = grad_corner(vi_perm(BB), x1, y1, fz);
-    corner c001 = grad_corner(vi_perm(vi_add(AA, one)), fx, fy, z1);
-    corner c101 = grad_corner(vi_perm(vi_add(BA, one)), x1, fy, z1);
-    corner c011 = grad_corner(vi_perm(vi_add(AB, one)), fx, y1, z1);
-    corner c111 = grad_corner(vi_perm(vi_add(BB, one)), x1, y1, z1);
-
+    vi h[8];
+    vi_hash8(X, Y, Z, h);
     if (!want_grad) {
+        corner c000 = grad_corner(h[0], fx, fy, fz);
+        corner c100 = grad_corner(h[1], x1, fy, fz);
+        corner c010 = grad_corner(h[2], fx, y1, fz);
+        corner c110 = grad_corner(h[3], x1, y1, fz);
+        corner c001 = grad_corner(h[4], fx, fy, z1);
+        corner c101 = grad_corner(h[5], x1, fy, z1);
+        corner c011 = grad_corner(h[6], fx, y1, z1);
+        corner c111 = grad_corner(h[7], x1, y1, z1);
         /* lerp(w, lerp(v, lerp(u, ..), lerp(u, ..)), lerp(v, ..)) exactly as the reference. */
         corner r;
         vf a0 = vf_add(c000.v, vf_mul(u, vf_sub(c100.v, c000.v)));
@@ -134,10 +168,17 @@ static inline corner noise_vec(vf x, vf y, vf z, int want_grad)
         r.gx = r.gy = r.gz = vf_set1(0);
         return r;
     }
+    /* With the gradient, each corner pair is folded into its lerp as soon as it
+     * is formed (the same operations in the same association as lerping after
+     * all eight): 8 corners x 4 vectors live at once do not fit the 32 AVX-512
+     * registers next to the rest and were spilled to the stack. */
     vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
-    corner a0 = lerp_x(u, du, c000, c100), a1 = lerp_x(u, du, c010, c110);
-    corner a2 = lerp_x(u, du, c001, c101), a3 = lerp_x(u, du, c011, c111);
-    corner b0 = lerp_y(v, dv, a0, a1), b1 = lerp_y(v, dv, a2, a3);
+    corner a0 = lerp_x(u, du, grad_corner(h[0], fx, fy, fz), grad_corner(h[1], x1, fy, fz));
+    corner a1 = lerp_x(u, du, grad_corner(h[2], fx, y1, fz), grad_corner(h[3], x1, y1, fz));
+    corner b0 = lerp_y(v, dv, a0, a1);
+    corner a2 = lerp_x(u, du, grad_corner(h[4], fx, fy, z1), grad_corner(h[5], x1, fy, z1));
+    corner a3 = lerp_x(u, du, grad_corner(h[6], fx, y1, z1), grad_corner(h[7], x1, y1, z1));
+    corner b1 = lerp_y(v, dv, a2, a3);
     return lerp_z(w, dw, b0, b1);
 }
 
@@ -145,7 +186,7 @@ static inline corner noise_vec(vf x, vf y, vf z, int want_grad)
 
 /* Octave i samples noise at lacunarity^i p with weight gain^i; both factors are
  * built by repeated multiplication in bg_real, identical on every ISA. */
-static inline corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
+BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
 {
     if (f->function == BG_FUNC_NOISE)
         return noise_vec(x, y, z, want_grad);
@@ -184,20 +225,29 @@ static inline corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want
     return s;
 }
 
+/* A step below the spacing of the coordinate's floating-point grid rounds to
+ * x +- h == x: the difference quotient is then 0/0. We return 0 for that
+ * component (no slope can be measured) so finite input never yields NaN. */
+static inline vf central_quotient(vf num, vf den)
+{
+    vm none = vf_le(vf_abs(den), vf_set1(0));
+    return vf_sel(none, vf_set1(0), vf_div(num, vf_sel(none, vf_set1(1), den)));
+}
+
 /* Central differences: (F(x+h) - F(x-h)) / ((x+h) - (x-h)), dividing by the step
  * actually taken, which differs from 2h once x is large (rounding of x +- h). */
-static inline corner fractal_central_vec(const bg_fractal *f, vf h, vf x, vf y, vf z)
+BG_INLINE corner fractal_central_vec(const bg_fractal *f, vf h, vf x, vf y, vf z)
 {
     corner r = fractal_vec(f, x, y, z, 0);
     vf xp = vf_add(x, h), xm = vf_sub(x, h);
     vf yp = vf_add(y, h), ym = vf_sub(y, h);
     vf zp = vf_add(z, h), zm = vf_sub(z, h);
-    r.gx = vf_div(vf_sub(fractal_vec(f, xp, y, z, 0).v, fractal_vec(f, xm, y, z, 0).v),
-                  vf_sub(xp, xm));
-    r.gy = vf_div(vf_sub(fractal_vec(f, x, yp, z, 0).v, fractal_vec(f, x, ym, z, 0).v),
-                  vf_sub(yp, ym));
-    r.gz = vf_div(vf_sub(fractal_vec(f, x, y, zp, 0).v, fractal_vec(f, x, y, zm, 0).v),
-                  vf_sub(zp, zm));
+    r.gx = central_quotient(vf_sub(fractal_vec(f, xp, y, z, 0).v, fractal_vec(f, xm, y, z, 0).v),
+                            vf_sub(xp, xm));
+    r.gy = central_quotient(vf_sub(fractal_vec(f, x, yp, z, 0).v, fractal_vec(f, x, ym, z, 0).v),
+                            vf_sub(yp, ym));
+    r.gz = central_quotient(vf_sub(fractal_vec(f, x, y, zp, 0).v, fractal_vec(f, x, y, zm, 0).v),
+                            vf_sub(zp, zm));
     return r;
 }
 
@@ -210,13 +260,19 @@ typedef struct v3 {
 /* n' = normalize(n - grad_S h) with grad_S h = g - n (n.g) (eq. 2 and 4, Listing 3),
  * or the additive forms normalize(n -+ g). The degenerate-input rules are the ones
  * documented in surfgrad.h; they are selects, so every lane follows them alike. */
-static inline v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
+BG_INLINE v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
 {
     vf zero = vf_set1(0), one = vf_set1(1), big = vf_set1(BG_REAL_MAX);
     /* Normalize n with a pre-scale by its largest component: no finite n overflows. */
     vf ax = vf_abs(n.x), ay = vf_abs(n.y), az = vf_abs(n.z);
     vf m = vf_max(vf_max(ax, ay), az);
     vm nvalid = vm_and(vm_and(vf_gt(m, zero), vf_le(ax, big)), vm_and(vf_le(ay, big), vf_le(az, big)));
+    /* A subnormal m would make 1/m overflow (NaN out of a finite n): lift a tiny
+     * n by 2^64 first, exactly; larger n keep their bits. */
+    vm tiny = vf_lt(m, vf_set1((bg_real)0x1p-64));
+    vf lift = vf_sel(tiny, vf_set1((bg_real)0x1p64), one);
+    n.x = vf_mul(n.x, lift), n.y = vf_mul(n.y, lift), n.z = vf_mul(n.z, lift);
+    m = vf_mul(m, lift);
     vf inv = vf_div(one, vf_sel(nvalid, m, one));
     n.x = vf_mul(n.x, inv), n.y = vf_mul(n.y, inv), n.z = vf_mul(n.z, inv);
     vf il = vf_div(one, vf_sqrt(vf_add(vf_add(vf_mul(n.x, n.x), vf_mul(n.y, n.y)), vf_mul(n.z, n.z))));
@@ -247,6 +303,13 @@ static inline v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
         s.y = vf_add(vf_mul(n.y, sc), g.y);
         s.z = vf_add(vf_mul(n.z, sc), g.z);
     }
+    /* With a huge g (nearly) along n, s is about n/max|g| and s.s underflows, so
+     * the length is wrong or 0: rescale a tiny s by its largest component first
+     * (a division, which cannot overflow); other s keep their bits. */
+    vf ms = vf_max(vf_max(vf_abs(s.x), vf_abs(s.y)), vf_abs(s.z));
+    vm stiny = vm_and(vf_gt(ms, zero), vf_lt(ms, vf_set1((bg_real)0x1p-32)));
+    vf msd = vf_sel(stiny, ms, one);
+    s.x = vf_div(s.x, msd), s.y = vf_div(s.y, msd), s.z = vf_div(s.z, msd);
     vf len = vf_sqrt(vf_add(vf_add(vf_mul(s.x, s.x), vf_mul(s.y, s.y)), vf_mul(s.z, s.z)));
     vm keep = vm_and(gvalid, vf_gt(len, zero));
     vf il2 = vf_div(one, vf_sel(keep, len, one));
@@ -276,7 +339,7 @@ void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n,
     }
 }
 
-static inline void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *gx,
+BG_INLINE void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *gx,
                                 bg_real *gy, bg_real *gz)
 {
     if (v)
@@ -375,6 +438,8 @@ void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real 
 #endif
 
 /* ---- This ISA's kernel table ---------------------------------------------- */
+#define BG_STR2(a) #a
+#define BG_STR(a) BG_STR2(a)
 #ifdef BG_SCALAR_DOUBLE
 const bg_kernel_table_d bg_kernels_c64 = {
     .noise3_grad = bg_noise3_grad_c64,
@@ -392,5 +457,6 @@ const bg_kernel_table KFN(kernels) = {
     .fractal3_grad_central = KFN(fractal3_grad_central),
     .perturb = KFN(perturb),
     .perturb_height = KFN(perturb_height),
+    .name = BG_STR(BG_ISA_SUFFIX),
 };
 #endif

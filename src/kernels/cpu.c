@@ -7,6 +7,9 @@
 #include <cpuid.h>
 #include <stdatomic.h>
 
+/* Internal feature bits above the bg_isa levels. */
+#define CPU_BIT_VBMI 16
+
 static unsigned long long xgetbv0(void)
 {
     unsigned eax, edx;
@@ -35,12 +38,15 @@ static int detect(void)
         mask |= 1 << BG_ISA_AVX2;
     /* AVX-512 level: F, DQ, BW, VL; opmask and ZMM state enabled in XCR0. */
     unsigned need = (1u << 16) | (1u << 17) | (1u << 30) | (1u << 31);
-    if ((mask & (1 << BG_ISA_AVX2)) && (b7 & need) == need && (xcr0 & 0xE6) == 0xE6)
+    if ((mask & (1 << BG_ISA_AVX2)) && (b7 & need) == need && (xcr0 & 0xE6) == 0xE6) {
         mask |= 1 << BG_ISA_AVX512;
+        if (c7 & (1u << 1)) /* AVX512_VBMI */
+            mask |= 1 << CPU_BIT_VBMI;
+    }
     return mask;
 }
 
-int bg_cpu_has(bg_isa isa)
+static int cpu_mask(void)
 {
     static atomic_int cached = -1;
     int m = atomic_load(&cached);
@@ -48,7 +54,17 @@ int bg_cpu_has(bg_isa isa)
         m = detect();
         atomic_store(&cached, m);
     }
-    return (m >> isa) & 1;
+    return m;
+}
+
+int bg_cpu_has(bg_isa isa)
+{
+    return (cpu_mask() >> isa) & 1;
+}
+
+int bg_cpu_has_avx512vbmi(void)
+{
+    return (cpu_mask() >> CPU_BIT_VBMI) & 1;
 }
 
 #elif defined(__aarch64__)
@@ -56,9 +72,17 @@ int bg_cpu_has(bg_isa isa)
 {
     return isa == BG_ISA_SCALAR || isa == BG_ISA_NEON; /* NEON is mandatory on AArch64 */
 }
+int bg_cpu_has_avx512vbmi(void)
+{
+    return 0;
+}
 #else
 int bg_cpu_has(bg_isa isa)
 {
     return isa == BG_ISA_SCALAR;
+}
+int bg_cpu_has_avx512vbmi(void)
+{
+    return 0;
 }
 #endif

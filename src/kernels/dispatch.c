@@ -18,6 +18,9 @@ extern const bg_kernel_table bg_kernels_avx2;
 #if BG_HAVE_AVX512
 extern const bg_kernel_table bg_kernels_avx512;
 #endif
+#if BG_HAVE_AVX512VBMI
+extern const bg_kernel_table bg_kernels_avx512vbmi;
+#endif
 #if BG_HAVE_NEON
 extern const bg_kernel_table bg_kernels_neon;
 #endif
@@ -32,7 +35,13 @@ static const bg_kernel_table *table_of(bg_isa isa)
 #if BG_HAVE_AVX2
     case BG_ISA_AVX2: return &bg_kernels_avx2;
 #endif
-#if BG_HAVE_AVX512
+#if BG_HAVE_AVX512VBMI
+    /* Same bits as plain AVX-512, about 2x faster (docs/KERNELS.md). */
+    case BG_ISA_AVX512:
+        if (bg_cpu_has_avx512vbmi())
+            return &bg_kernels_avx512vbmi;
+        return &bg_kernels_avx512;
+#elif BG_HAVE_AVX512
     case BG_ISA_AVX512: return &bg_kernels_avx512;
 #endif
 #if BG_HAVE_NEON
@@ -135,4 +144,23 @@ const bg_kernel_table *bg_kernels(void)
 const bg_kernel_table *bg_kernels_for(bg_isa isa)
 {
     return isa_supported(isa) ? table_of(isa) : NULL;
+}
+
+int bg_kernels_variants(bg_isa isa, const bg_kernel_table **out, int max)
+{
+    int n = 0;
+    if (!isa_supported(isa))
+        return 0;
+#if BG_HAVE_AVX512VBMI
+    if (isa == BG_ISA_AVX512) {
+        if (bg_cpu_has_avx512vbmi() && n < max)
+            out[n++] = &bg_kernels_avx512vbmi;
+        if (n < max)
+            out[n++] = &bg_kernels_avx512;
+        return n;
+    }
+#endif
+    if (n < max)
+        out[n++] = table_of(isa);
+    return n;
 }

@@ -13,6 +13,8 @@
 /* Perlin's reference permutation, doubled so that p[i + 1] never wraps (i < 511). */
 extern const int32_t bg_perm512[512];
 extern const uint8_t bg_perm256_u8[256];
+/* bg_perm_pair[i] = p[i] | p[(i + 1) & 255] << 8, for the 7-lookup hash chain. */
+extern const int32_t bg_perm_pair[256];
 
 typedef struct bg_kernel_table {
     bg_isa isa;
@@ -33,6 +35,8 @@ typedef struct bg_kernel_table {
                            const float *py, const float *pz, const float *nx, const float *ny,
                            const float *nz, size_t n, float *height, float *ox, float *oy,
                            float *oz);
+    /* Name of this table's variant: the BG_ISA_SUFFIX ("c", "sse2", ..., "avx512vbmi"). */
+    const char *name;
 } bg_kernel_table;
 
 /* Double-precision kernels: the same template with a one-lane double vocabulary. */
@@ -53,6 +57,11 @@ typedef struct bg_kernel_table_d {
 const bg_kernel_table *bg_kernels(void);
 /* The table of one ISA, or NULL if this build or CPU lacks it (for the harness). */
 const bg_kernel_table *bg_kernels_for(bg_isa isa);
+/* Every table built for `isa` that this CPU can run, the one bg_kernels_for()
+ * returns first (an ISA level may have variants using an extra feature, e.g.
+ * AVX-512 with VBMI; all give the same bits). Stores at most `max`, returns the
+ * count (0 if the ISA is unsupported). For the harness. */
+int bg_kernels_variants(bg_isa isa, const bg_kernel_table **out, int max);
 /* The scalar float table (used by the single-point entry points). */
 extern const bg_kernel_table bg_kernels_c;
 extern const bg_kernel_table_d bg_kernels_c64;

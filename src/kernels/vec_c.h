@@ -5,7 +5,9 @@
  * every SIMD level (SLEEF-style "helper" headers). Every vocabulary must define
  * each operation with exactly these IEEE semantics so that lanes agree bit for
  * bit: vf_max(a,b) is (a > b ? a : b) (x86 maxps order), vf_floor is IEEE floor,
- * vi_from_vf truncates an in-range value, vf_sel(m,a,b) is m ? a : b. */
+ * vi_from_vf truncates an in-range value, vf_sel(m,a,b) is m ? a : b, and the
+ * lookups vi_perm2 / vf_lut16 / vi_cell256 below are exact table reads. The
+ * full list and the per-ISA notes are in docs/KERNELS.md. */
 #ifndef BUMPGRAD_VEC_C_H
 #define BUMPGRAD_VEC_C_H
 
@@ -61,7 +63,18 @@ static inline vi vi_and(vi a, vi b) { return a & b; }
 static inline vm vi_lt(vi a, vi b) { return a < b; }
 static inline vm vi_eq(vi a, vi b) { return a == b; }
 static inline vm vi_test(vi a, vi bits) { return (a & bits) != 0; }
-/* Perlin's permutation lookup p[idx], idx in [0, 512). */
-static inline vi vi_perm(vi idx) { return bg_perm512[idx]; }
+/* bg_perm_pair[idx & 255] (p[idx] | p[idx + 1] << 8), idx >= 0. */
+static inline vi vi_perm2(vi idx) { return bg_perm_pair[idx & 255]; }
+/* Logical shift right by 8 of a non-negative lane. */
+static inline vi vi_srl8(vi a) { return (vi)((uint32_t)a >> 8); }
+
+/* tab[idx & 15]: the corner gradient tables. */
+static inline vf vf_lut16(const bg_real *tab, vi idx) { return tab[idx & 15]; }
+#ifndef BG_SCALAR_DOUBLE
+/* An integer-valued float (a floor) modulo 256 in [0, 256); 0 for NaN/Inf. From
+ * 2^31 up every float is a multiple of 256, so the int32 conversion is only
+ * needed (and only defined) below that. */
+static inline vi vi_cell256(vf fl) { return fabsf(fl) < 2147483648.0f ? ((int32_t)fl & 255) : 0; }
+#endif
 
 #endif

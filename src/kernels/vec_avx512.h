@@ -1,0 +1,141 @@
+/* SPDX-License-Identifier: MIT */
+/* Vector vocabulary, AVX-512 (F, BW, DQ, VL): sixteen float lanes, predicates in
+ * opmask registers, masked loads/stores for the tails. Same IEEE semantics as
+ * vec_c.h in every lane; -ffp-contract=off keeps -mfma from fusing. */
+#ifndef BUMPGRAD_VEC_AVX512_H
+#define BUMPGRAD_VEC_AVX512_H
+
+#include <immintrin.h>
+#include <stdint.h>
+#include <float.h>
+#include "kernels.h"
+
+#ifdef BG_VEC_VBMI
+#define BG_ISA_SUFFIX avx512vbmi
+#else
+#define BG_ISA_SUFFIX avx512
+#endif
+#define BG_ISA_ENUM BG_ISA_AVX512
+#define BG_REAL_MAX FLT_MAX
+#define LANES 16
+typedef float bg_real;
+typedef __m512 vf;
+typedef __m512i vi;
+typedef __mmask16 vm;
+
+static inline vf vf_set1(float a) { return _mm512_set1_ps(a); }
+/* Masked tails: masked-out elements are neither read nor written (no fault past
+ * the end of the caller's arrays), the unused lanes are zero. */
+static inline __mmask16 bg_tail_mask(size_t c) { return (__mmask16)((1u << c) - 1u); }
+static inline vf vf_loadn(const float *p, size_t c)
+{
+    if (c == LANES)
+        return _mm512_loadu_ps(p);
+    return _mm512_maskz_loadu_ps(bg_tail_mask(c), p);
+}
+static inline void vf_storen(float *p, vf v, size_t c)
+{
+    if (c == LANES)
+        _mm512_storeu_ps(p, v);
+    else
+        _mm512_mask_storeu_ps(p, bg_tail_mask(c), v);
+}
+static inline vf vf_add(vf a, vf b) { return _mm512_add_ps(a, b); }
+static inline vf vf_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }
+static inline vf vf_mul(vf a, vf b) { return _mm512_mul_ps(a, b); }
+static inline vf vf_div(vf a, vf b) { return _mm512_div_ps(a, b); }
+static inline vf vf_sqrt(vf a) { return _mm512_sqrt_ps(a); }
+/* vrndscaleps with scale 0 toward -inf is IEEE floor (keeps -0, passes NaN). */
+static inline vf vf_floor(vf a) { return _mm512_roundscale_ps(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+static inline vf vf_abs(vf a) { return _mm512_castsi512_ps(_mm512_and_si512(_mm512_castps_si512(a), _mm512_set1_epi32(INT32_MAX))); }
+static inline vf vf_neg(vf a) { return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(INT32_MIN))); }
+/* vmaxps returns the second operand unless a > b: exactly (a > b ? a : b). */
+static inline vf vf_max(vf a, vf b) { return _mm512_max_ps(a, b); }
+static inline vm vf_lt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+static inline vm vf_le(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
+static inline vm vf_gt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
+static inline vm vm_and(vm a, vm b) { return (vm)(a & b); }
+static inline vm vm_or(vm a, vm b) { return (vm)(a | b); }
+static inline vm vm_not(vm a) { return (vm)~a; }
+static inline vf vf_sel(vm m, vf a, vf b) { return _mm512_mask_blend_ps(m, b, a); }
+
+static inline vi vi_set1(int32_t a) { return _mm512_set1_epi32(a); }
+static inline vi vi_from_vf(vf a) { return _mm512_cvttps_epi32(a); }
+static inline vi vi_add(vi a, vi b) { return _mm512_add_epi32(a, b); }
+static inline vi vi_and(vi a, vi b) { return _mm512_and_si512(a, b); }
+static inline vm vi_lt(vi a, vi b) { return _mm512_cmplt_epi32_mask(a, b); }
+static inline vm vi_eq(vi a, vi b) { return _mm512_cmpeq_epi32_mask(a, b); }
+static inline vm vi_test(vi a, vi bits) { return _mm512_test_epi32_mask(a, bits); }
+
+#ifdef BG_VEC_VBMI
+/* Perlin's permutation applied to every byte: p256[b] for each of the 64 bytes,
+ * the 256-byte table held in four zmm registers. vpermi2b indexes 128 table
+ * bytes with the low 7 bits; bit 7 of each index byte picks the upper half. */
+static inline __m512i bg_perm_bytes(__m512i idx)
+{
+    const __m512i *t = (const __m512i *)(const void *)bg_perm256_u8;
+    __m512i lo = _mm512_permutex2var_epi8(_mm512_loadu_si512(t), idx, _mm512_loadu_si512(t + 1));
+    __m512i hi = _mm512_permutex2var_epi8(_mm512_loadu_si512(t + 2), idx, _mm512_loadu_si512(t + 3));
+    return _mm512_mask_mov_epi8(lo, _mm512_movepi8_mask(idx), hi);
+}
+/* The reference's 12-lookup hash chain in 4 byte lookups. Every index in the
+ * chain is only ever used modulo 256 (p has period 256: the 512-entry table is
+ * two copies), so the chain runs in bytes, where vpaddb wraps for free, with
+ * up to four indices per dword lane sharing one vpermi2b pair:
+ *   (X, X+1)                  -> (A, B) = (p[X]+Y, p[X+1]+Y)
+ *   (A, A+1, B, B+1)          -> (AA, AB, BA, BB) (+Z)
+ *   (AA, AA+1, AB, AB+1), (BA, BA+1, BB, BB+1) -> the 8 corner hashes.
+ * h[k] receives corner k (bit 0 = x, bit 1 = y, bit 2 = z offset) in the low
+ * byte of each dword; the bytes above are other corners' hashes, which
+ * vf_lut16 ignores. */
+#define BG_HAVE_HASH8 1
+static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+{
+    /* vpshufb patterns, per 128-bit lane: byte 0 of each dword to all four bytes;
+     * bytes (0,0,1,1) and (2,2,3,3) of each dword. */
+    const __m512i b0 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    const __m512i b01 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
+    const __m512i b23 = _mm512_broadcast_i32x4(_mm_setr_epi8(2, 2, 3, 3, 6, 6, 7, 7, 10, 10, 11, 11, 14, 14, 15, 15));
+    const __m512i plus0101 = _mm512_set1_epi32(0x01000100);
+    __m512i yb = _mm512_shuffle_epi8(Y, b0), zb = _mm512_shuffle_epi8(Z, b0);
+    __m512i ab = _mm512_add_epi8(bg_perm_bytes(_mm512_add_epi8(_mm512_shuffle_epi8(X, b0), plus0101)), yb);
+    __m512i i2 = _mm512_add_epi8(_mm512_shuffle_epi8(ab, b01), plus0101);
+    __m512i hz = _mm512_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+    __m512i la = bg_perm_bytes(_mm512_add_epi8(_mm512_shuffle_epi8(hz, b01), plus0101));
+    __m512i lb = bg_perm_bytes(_mm512_add_epi8(_mm512_shuffle_epi8(hz, b23), plus0101));
+    /* la = (p[AA], p[AA+1], p[AB], p[AB+1]), lb = (p[BA], p[BA+1], p[BB], p[BB+1]). */
+    h[0] = la;                          /* 000: p[AA]   */
+    h[4] = _mm512_srli_epi32(la, 8);    /* 001: p[AA+1] */
+    h[2] = _mm512_srli_epi32(la, 16);   /* 010: p[AB]   */
+    h[6] = _mm512_srli_epi32(la, 24);   /* 011: p[AB+1] */
+    h[1] = lb;                          /* 100: p[BA]   */
+    h[5] = _mm512_srli_epi32(lb, 8);    /* 101: p[BA+1] */
+    h[3] = _mm512_srli_epi32(lb, 16);   /* 110: p[BB]   */
+    h[7] = _mm512_srli_epi32(lb, 24);   /* 111: p[BB+1] */
+}
+#else
+#endif
+/* bg_perm_pair[idx & 255]: vpgatherdd (the VBMI variant replaces the whole
+ * chain with vi_hash8 above). */
+static inline vi vi_perm2(vi idx)
+{
+    vi i = _mm512_and_si512(idx, _mm512_set1_epi32(255));
+#ifdef BG_VEC_NO_GATHER
+    int32_t k[16], r[16];
+    _mm512_storeu_si512(k, i);
+    for (int j = 0; j < 16; j++)
+        r[j] = bg_perm_pair[k[j]];
+    return _mm512_loadu_si512(r);
+#else
+    return _mm512_i32gather_epi32(i, bg_perm_pair, 4);
+#endif
+}
+static inline vi vi_srl8(vi a) { return _mm512_srli_epi32(a, 8); }
+
+/* tab[idx & 15]: vpermps ignores the index bits above 3. */
+static inline vf vf_lut16(const float *tab, vi idx) { return _mm512_permutexvar_ps(idx, _mm512_loadu_ps(tab)); }
+/* floor value mod 256: vcvttps2dq gives 0x80000000 (low byte 0) for NaN, Inf and
+ * |fl| >= 2^31, where every float is a multiple of 256 anyway. */
+static inline vi vi_cell256(vf fl) { return _mm512_and_si512(_mm512_cvttps_epi32(fl), _mm512_set1_epi32(255)); }
+
+#endif
