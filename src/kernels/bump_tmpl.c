@@ -184,27 +184,76 @@ BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
 
 /* ---- fBm and turbulence (Perlin 1985) -------------------------------------- */
 
-/* Octave i samples noise at lacunarity^i p with weight gain^i; both factors are
- * built by repeated multiplication in bg_real, identical on every ISA. */
-BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
+/* Footprint weight of an octave (noise.h): c = clamp(2 - 4 r, 0, 1) for the
+ * resolution ratio r = footprint * frequency; 1 up to r = 1/4, 0 from the
+ * Nyquist limit r = 1/2. `fp` is already sanitized (NaN and negative -> 0). */
+BG_INLINE vf octave_weight(vf fp, bg_real freq)
 {
-    if (f->function == BG_FUNC_NOISE)
-        return noise_vec(x, y, z, want_grad);
+    vf w = vf_sub(vf_set1(2), vf_mul(vf_set1(4), vf_mul(fp, vf_set1(freq))));
+    w = vf_sel(vf_gt(w, vf_set1(1)), vf_set1(1), w);
+    return vf_sel(vf_lt(w, vf_set1(0)), vf_set1(0), w);
+}
+
+/* Octave i samples noise at lacunarity^i p with weight gain^i; both factors are
+ * built by repeated multiplication in bg_real, identical on every ISA.
+ * With `use_fp` (a constant after inlining) octave i is also weighted by its
+ * footprint weight, and the loop stops at the first octave that no lane can
+ * show. A weight of exactly 1 multiplies exactly, so footprint 0 reproduces the
+ * unfiltered sum bit for bit. */
+BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad, int use_fp,
+                                vf fp)
+{
+    int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
+    if (use_fp) {
+        fp = vf_sel(vf_gt(fp, vf_set1(0)), fp, vf_set1(0));
+        /* Octaves beyond the finest any lane needs are skipped (ratios grow with
+         * the octave when lacunarity >= 1): one horizontal minimum per vector. */
+        if (f->lacunarity >= 1 || f->function == BG_FUNC_NOISE) {
+            bg_real lanes[LANES], mn;
+            vf_storen(lanes, fp, LANES);
+            mn = lanes[0];
+            for (int l = 1; l < LANES; l++)
+                mn = lanes[l] < mn ? lanes[l] : mn;
+            bg_real fq = 1;
+            int need = 0;
+            while (need < octaves && mn * fq < (bg_real)0.5)
+                need++, fq *= (bg_real)f->lacunarity;
+            octaves = need;
+        }
+    }
+    if (f->function == BG_FUNC_NOISE) {
+        corner o;
+        if (octaves == 0) {
+            o.v = o.gx = o.gy = o.gz = vf_set1(0);
+            return o;
+        }
+        o = noise_vec(x, y, z, want_grad);
+        if (use_fp) {
+            /* Not a sum: weight 1 must return the noise itself (even -0). */
+            vf w = octave_weight(fp, 1);
+            o.v = vf_mul(w, o.v), o.gx = vf_mul(w, o.gx), o.gy = vf_mul(w, o.gy),
+            o.gz = vf_mul(w, o.gz);
+        }
+        return o;
+    }
     int turb = f->function == BG_FUNC_TURBULENCE;
     bg_real amp = 1, freq = 1;
     const bg_real gain = (bg_real)f->gain, lac = (bg_real)f->lacunarity;
     corner s;
     s.v = s.gx = s.gy = s.gz = vf_set1(0);
-    for (int i = 0; i < f->octaves; i++) {
+    for (int i = 0; i < octaves; i++) {
         vf fq = vf_set1(freq);
         corner o = noise_vec(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq), want_grad);
-        vf a = vf_set1(amp);
+        vf a = vf_set1(amp), af = vf_set1(amp * freq);
+        if (use_fp) {
+            vf w = octave_weight(fp, freq);
+            a = vf_mul(a, w), af = vf_mul(af, w);
+        }
         if (turb) {
             /* d|n| = sign(n) dn, with sign(0) = +1 (the crease: docs/STABILITY.md). */
             vm neg = vf_lt(o.v, vf_set1(0));
             s.v = vf_add(s.v, vf_mul(a, vf_abs(o.v)));
             if (want_grad) {
-                vf af = vf_set1(amp * freq);
                 af = vf_sel(neg, vf_neg(af), af);
                 s.gx = vf_add(s.gx, vf_mul(af, o.gx));
                 s.gy = vf_add(s.gy, vf_mul(af, o.gy));
@@ -213,7 +262,6 @@ BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_gra
         } else {
             s.v = vf_add(s.v, vf_mul(a, o.v));
             if (want_grad) {
-                vf af = vf_set1(amp * freq);
                 s.gx = vf_add(s.gx, vf_mul(af, o.gx));
                 s.gy = vf_add(s.gy, vf_mul(af, o.gy));
                 s.gz = vf_add(s.gz, vf_mul(af, o.gz));
@@ -223,6 +271,11 @@ BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_gra
         freq *= lac;
     }
     return s;
+}
+
+BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
+{
+    return fractal_fp_vec(f, x, y, z, want_grad, 0, vf_set1(0));
 }
 
 /* A step below the spacing of the coordinate's floating-point grid rounds to
@@ -408,6 +461,44 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
 }
 
 #ifndef BG_SCALAR_DOUBLE
+/* Fractal value + analytic gradient with per-sample footprints (noise space). */
+void KFN(fractal3_grad_fp)(const bg_fractal *f, const bg_real *fp, const bg_real *x,
+                           const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
+                           bg_real *gy, bg_real *gz)
+{
+    BG_FOR_BATCH(i, c, n)
+    {
+        corner r = fractal_fp_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1,
+                                  1, vf_loadn(fp + i, c));
+        store_corner(r, i, c, v, gx, gy, gz);
+    }
+}
+
+/* The fused call with footprints (world units, scaled by the frequency like p). */
+void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,
+                            const bg_real *px, const bg_real *py, const bg_real *pz,
+                            const bg_real *nx, const bg_real *ny, const bg_real *nz, size_t n,
+                            bg_real *height, bg_real *ox, bg_real *oy, bg_real *oz)
+{
+    vf freq = vf_set1(h->frequency), amp = vf_set1(h->amplitude);
+    vf af = vf_set1(h->amplitude * h->frequency);
+    BG_FOR_BATCH(i, c, n)
+    {
+        vf qx = vf_mul(vf_loadn(px + i, c), freq);
+        vf qy = vf_mul(vf_loadn(py + i, c), freq);
+        vf qz = vf_mul(vf_loadn(pz + i, c), freq);
+        corner r = fractal_fp_vec(&h->fractal, qx, qy, qz, 1, 1, vf_mul(vf_loadn(fp + i, c), freq));
+        v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
+        v3 gg = {vf_mul(af, r.gx), vf_mul(af, r.gy), vf_mul(af, r.gz)};
+        v3 o = perturb_vec(m, nn, gg);
+        if (height)
+            vf_storen(height + i, vf_mul(amp, r.v), c);
+        vf_storen(ox + i, o.x, c);
+        vf_storen(oy + i, o.y, c);
+        vf_storen(oz + i, o.z, c);
+    }
+}
+
 /* Fused height -> normal: h(p) = A F(f p), grad h = A f F'(f p), then eq. 4. */
 void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real *px,
                          const bg_real *py, const bg_real *pz, const bg_real *nx,
@@ -457,6 +548,8 @@ const bg_kernel_table KFN(kernels) = {
     .fractal3_grad_central = KFN(fractal3_grad_central),
     .perturb = KFN(perturb),
     .perturb_height = KFN(perturb_height),
+    .fractal3_grad_fp = KFN(fractal3_grad_fp),
+    .perturb_height_fp = KFN(perturb_height_fp),
     .name = BG_STR(BG_ISA_SUFFIX),
 };
 #endif

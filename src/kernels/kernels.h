@@ -35,6 +35,13 @@ typedef struct bg_kernel_table {
                            const float *py, const float *pz, const float *nx, const float *ny,
                            const float *nz, size_t n, float *height, float *ox, float *oy,
                            float *oz);
+    /* Footprint-aware fractal and fused calls (noise.h, surfgrad.h). */
+    void (*fractal3_grad_fp)(const bg_fractal *f, const float *fp, const float *x, const float *y,
+                             const float *z, size_t n, float *v, float *gx, float *gy, float *gz);
+    void (*perturb_height_fp)(const bg_height *h, bg_perturb_method m, const float *fp,
+                              const float *px, const float *py, const float *pz, const float *nx,
+                              const float *ny, const float *nz, size_t n, float *height, float *ox,
+                              float *oy, float *oz);
     /* Name of this table's variant: the BG_ISA_SUFFIX ("c", "sse2", ..., "avx512vbmi"). */
     const char *name;
 } bg_kernel_table;
