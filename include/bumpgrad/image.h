@@ -3,6 +3,10 @@
  * @file image.h
  * @brief Images for the tools, through OpenImageIO (libbumpgrad_io, C++ inside,
  *        C interface). Not part of the core library.
+ *
+ * The OpenImageIO code lives in a module loaded on first use (docs/IO.md):
+ * if it cannot be loaded, the calls taking an error buffer return BG_ERR_IO
+ * with the reason; bg_image_alloc / bg_image_free never need it.
  */
 #ifndef BUMPGRAD_IMAGE_H
 #define BUMPGRAD_IMAGE_H
@@ -44,6 +48,18 @@ BG_API bg_status bg_image_read(const char *path, bg_image *out, char *err, size_
  *  one. Unwritable path: BG_ERR_IO with a message. */
 BG_API bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
                                 char *err, size_t errlen);
+
+/** Draw a line of text (UTF-8) into `img` with OpenImageIO's FreeType renderer,
+ *  for labelled panels. (x, y) is the top-left corner of the text in pixels,
+ *  `size` the font height in pixels, `rgb` the colour written into the first
+ *  three channels (fewer channels: the first ones; a 4th channel gets 1 where
+ *  text is drawn). Text outside the image is clipped. The font is the one named
+ *  by the BUMPGRAD_FONT environment variable (a name or a .ttf path), else
+ *  DejaVuSans (Debian's fonts-dejavu-core), else OpenImageIO's default.
+ *  No font found: BG_ERR_IO with a message, the image is unchanged.
+ *  Not thread-safe against other calls on the same image. */
+BG_API bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text,
+                                    const float rgb[3], int size, char *err, size_t errlen);
 
 #ifdef __cplusplus
 }

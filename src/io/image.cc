@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: MIT
+// Image I/O of the tools over OpenImageIO 2.4 (include/bumpgrad/image.h).
+// Everything that can throw stays inside this file: every extern "C" entry
+// point catches and turns exceptions into a status, since a C++ exception
+// crossing into the C command line would be undefined behaviour.
+#include "bumpgrad/image.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "io_util.h"
+
+using namespace OIIO;
+
+bg_status bg_image_alloc(bg_image *img, int width, int height, int channels)
+{
+    if (!img)
+        return BG_ERR_NULL_POINTER;
+    img->width = img->height = img->channels = 0;
+    img->pixels = nullptr;
+    if (width <= 0 || height <= 0 || channels <= 0 || channels > 64)
+        return BG_ERR_INVALID_ARGUMENT;
+    size_t n = 0;
+    if (!bg_io_mul_size(static_cast<size_t>(width), static_cast<size_t>(height), &n) ||
+        !bg_io_mul_size(n, static_cast<size_t>(channels), &n) ||
+        !bg_io_mul_size(n, sizeof(float), &n))
+        return BG_ERR_OUT_OF_MEMORY;
+    img->pixels = static_cast<float *>(std::calloc(n / sizeof(float), sizeof(float)));
+    if (!img->pixels)
+        return BG_ERR_OUT_OF_MEMORY;
+    img->width = width;
+    img->height = height;
+    img->channels = channels;
+    return BG_OK;
+}
+
+void bg_image_free(bg_image *img)
+{
+    if (!img)
+        return;
+    std::free(img->pixels);
+    img->pixels = nullptr;
+    img->width = img->height = img->channels = 0;
+}
+
+static bg_status read_impl(const char *path, bg_image *out, char *err, size_t errlen)
+{
+    // Tell "missing / unreadable" (an I/O problem) from "not an image / corrupt"
+    // (a format problem) before OpenImageIO does: its open() reports both as
+    // "could not open".
+    bg_status st = bg_io_check_readable(path, err, errlen);
+    if (st != BG_OK)
+        return st;
+
+    auto in = ImageInput::open(path);
+    if (!in) {
+        std::string msg = OIIO::geterror();
+        bg_io_set_error(err, errlen, "'%s': not a readable image (%s)", path,
+                        msg.empty() ? "unknown format" : msg.c_str());
+        return BG_ERR_FORMAT;
+    }
+    const ImageSpec &spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
+        bg_io_set_error(err, errlen, "'%s': unsupported image shape %dx%dx%d with %d channels",
+                        path, spec.width, spec.height, spec.depth, spec.nchannels);
+        return BG_ERR_FORMAT;
+    }
+    bg_image img;
+    st = bg_image_alloc(&img, spec.width, spec.height, spec.nchannels);
+    if (st != BG_OK) {
+        bg_io_set_error(err, errlen, "'%s': %dx%d image with %d channels is too large", path,
+                        spec.width, spec.height, spec.nchannels);
+        return st;
+    }
+    // Integer formats convert to [0, 1] here (OIIO's normalized conversion).
+    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, img.pixels)) {
+        std::string msg = in->geterror();
+        bg_io_set_error(err, errlen, "'%s': corrupt or truncated image (%s)", path,
+                        msg.empty() ? "read failed" : msg.c_str());
+        bg_image_free(&img);
+        return BG_ERR_FORMAT;
+    }
+    in->close();
+    *out = img;
+    return BG_OK;
+}
+
+bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen)
+{
+    bg_io_set_error(err, errlen, "%s", "");
+    if (!path || !out) {
+        bg_io_set_error(err, errlen, "bg_image_read: NULL argument");
+        return BG_ERR_NULL_POINTER;
+    }
+    out->width = out->height = out->channels = 0;
+    out->pixels = nullptr;
+    try {
+        return read_impl(path, out, err, errlen);
+    } catch (const std::bad_alloc &) {
+        bg_io_set_error(err, errlen, "'%s': out of memory", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        bg_io_set_error(err, errlen, "'%s': %s", path, e.what());
+        return BG_ERR_FORMAT;
+    }
+}
+
+// IEC 61966-2-1 encoding of a linear value; NaN maps to 0 so that a display
+// image never carries an undefined pixel.
+static float srgb_encode(float v)
+{
+    if (!(v > 0.0f))
+        return 0.0f;
+    if (v >= 1.0f)
+        return 1.0f;
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+static TypeDesc pixel_typedesc(bg_pixel_type t)
+{
+    switch (t) {
+    case BG_PIXEL_U8: return TypeDesc::UINT8;
+    case BG_PIXEL_U16: return TypeDesc::UINT16;
+    case BG_PIXEL_HALF: return TypeDesc::HALF;
+    case BG_PIXEL_F32: return TypeDesc::FLOAT;
+    }
+    return TypeDesc::UNKNOWN;
+}
+
+static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
+                            char *err, size_t errlen)
+{
+    TypeDesc td = pixel_typedesc(type);
+    if (td == TypeDesc::UNKNOWN) {
+        bg_io_set_error(err, errlen, "'%s': unknown pixel type %d", path, static_cast<int>(type));
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    // The writer is chosen from the final path's extension, so an unknown
+    // extension is refused before any file is created; it then writes to the
+    // temporary name, which keeps that extension.
+    auto out = ImageOutput::create(path);
+    if (!out) {
+        (void)OIIO::geterror();
+        bg_io_set_error(err, errlen,
+                        "'%s': no image format for this file extension "
+                        "(use .png, .exr, .tif, ...)",
+                        path);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+
+    const size_t count = static_cast<size_t>(img->width) * static_cast<size_t>(img->height) *
+                         static_cast<size_t>(img->channels);
+    const float *src = img->pixels;
+    std::vector<float> encoded;
+    if (srgb) {
+        encoded.resize(count);
+        const int c = img->channels;
+        // Alpha (4th channel of RGBA, 2nd of gray+alpha) stays linear, as PNG defines it.
+        const int alpha = (c == 4) ? 3 : (c == 2 ? 1 : -1);
+        for (size_t i = 0; i < count; ++i)
+            encoded[i] = (static_cast<int>(i % static_cast<size_t>(c)) == alpha)
+                             ? src[i]
+                             : srgb_encode(src[i]);
+        src = encoded.data();
+    }
+
+    std::string tmp;
+    bg_status st = bg_io_make_temp(path, &tmp, err, errlen);
+    if (st != BG_OK)
+        return st;
+
+    ImageSpec spec(img->width, img->height, img->channels, td);
+    if (srgb)
+        spec.attribute("oiio:ColorSpace", "sRGB");
+    else if (td == TypeDesc::HALF || td == TypeDesc::FLOAT)
+        spec.attribute("oiio:ColorSpace", "Linear");
+    spec.attribute("Software", "bumpgrad " BG_IO_VERSION_STRING);
+    if (td == TypeDesc::HALF || td == TypeDesc::FLOAT)
+        spec.attribute("compression", "zip");
+
+    bool ok = out->open(tmp, spec);
+    if (ok)
+        ok = out->write_image(TypeDesc::FLOAT, src);
+    if (ok)
+        ok = out->close();
+    if (!ok) {
+        std::string msg = out->geterror();
+        out.reset(); // closes the temporary file before it is removed
+        bg_io_set_error(err, errlen, "cannot write '%s' (%s)", path,
+                        msg.empty() ? "write failed" : msg.c_str());
+        std::remove(tmp.c_str());
+        return BG_ERR_IO;
+    }
+    return bg_io_commit_temp(tmp, path, err, errlen);
+}
+
+bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
+                         char *err, size_t errlen)
+{
+    bg_io_set_error(err, errlen, "%s", "");
+    if (!path || !img || !img->pixels) {
+        bg_io_set_error(err, errlen, "bg_image_write: NULL argument");
+        return BG_ERR_NULL_POINTER;
+    }
+    if (img->width <= 0 || img->height <= 0 || img->channels <= 0) {
+        bg_io_set_error(err, errlen, "'%s': empty image %dx%d with %d channels", path,
+                        img->width, img->height, img->channels);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    try {
+        return write_impl(path, img, type, srgb, err, errlen);
+    } catch (const std::bad_alloc &) {
+        bg_io_set_error(err, errlen, "cannot write '%s': out of memory", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, e.what());
+        return BG_ERR_IO;
+    }
+}
+
+static bg_status draw_text_impl(bg_image *img, int x, int y, const char *text, const float rgb[3],
+                                int size, char *err, size_t errlen)
+{
+    ImageSpec spec(img->width, img->height, img->channels, TypeDesc::FLOAT);
+    // Wraps the caller's pixels: render_text composites straight into them.
+    ImageBuf buf(spec, img->pixels);
+    std::vector<float> color(static_cast<size_t>(img->channels), 1.0f);
+    for (int c = 0; c < img->channels && c < 3; ++c)
+        color[static_cast<size_t>(c)] = rgb[c];
+
+    // Debian's OpenImageIO has no DroidSans, its built-in default, so name a
+    // font that fonts-dejavu-core installs; BUMPGRAD_FONT overrides.
+    std::vector<std::string> fonts;
+    if (const char *env = std::getenv("BUMPGRAD_FONT"))
+        if (*env)
+            fonts.emplace_back(env);
+    fonts.emplace_back("DejaVuSans");
+    fonts.emplace_back("");
+    std::string last;
+    for (const std::string &f : fonts) {
+        if (ImageBufAlgo::render_text(buf, x, y, text, size, f, color, ImageBufAlgo::TextAlignX::Left,
+                                      ImageBufAlgo::TextAlignY::Top))
+            return BG_OK;
+        last = buf.geterror();
+    }
+    bg_io_set_error(err, errlen, "cannot draw text: no usable font (%s); set BUMPGRAD_FONT",
+                    last.empty() ? "unknown error" : last.c_str());
+    return BG_ERR_IO;
+}
+
+bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, const float rgb[3],
+                             int size, char *err, size_t errlen)
+{
+    bg_io_set_error(err, errlen, "%s", "");
+    if (!img || !img->pixels || !text || !rgb) {
+        bg_io_set_error(err, errlen, "bg_image_draw_text: NULL argument");
+        return BG_ERR_NULL_POINTER;
+    }
+    if (img->width <= 0 || img->height <= 0 || img->channels <= 0 || size <= 0) {
+        bg_io_set_error(err, errlen, "bg_image_draw_text: bad image or font size");
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    try {
+        return draw_text_impl(img, x, y, text, rgb, size, err, errlen);
+    } catch (const std::bad_alloc &) {
+        bg_io_set_error(err, errlen, "cannot draw text: out of memory");
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        bg_io_set_error(err, errlen, "cannot draw text: %s", e.what());
+        return BG_ERR_IO;
+    }
+}

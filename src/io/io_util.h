@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// Helpers shared by the translation units of the I/O shim (not installed):
+// error messages, overflow-checked sizes, and the temp-file + rename protocol
+// that keeps a failed write from leaving a partial file or destroying an old one.
+#ifndef BUMPGRAD_IO_UTIL_H
+#define BUMPGRAD_IO_UTIL_H
+
+#include <cstddef>
+#include <string>
+
+#include "bumpgrad/common.h"
+
+#define BG_IO_STR2(x) #x
+#define BG_IO_STR(x) BG_IO_STR2(x)
+#define BG_IO_VERSION_STRING                                                                       \
+    BG_IO_STR(BG_VERSION_MAJOR) "." BG_IO_STR(BG_VERSION_MINOR) "." BG_IO_STR(BG_VERSION_PATCH)
+
+#if defined(__GNUC__) || defined(__clang__)
+#define BG_IO_PRINTF(f, a) __attribute__((format(printf, f, a)))
+/* Internal to the module: not part of what the program may look up. */
+#define BG_IO_HIDDEN __attribute__((visibility("hidden")))
+#else
+#define BG_IO_PRINTF(f, a)
+#define BG_IO_HIDDEN
+#endif
+
+/* printf into err (errlen may be 0, err may be NULL). */
+BG_IO_HIDDEN void bg_io_set_error(char *err, size_t errlen, const char *fmt, ...)
+    BG_IO_PRINTF(3, 4);
+
+/* a*b without overflow: returns false on overflow. */
+BG_IO_HIDDEN bool bg_io_mul_size(size_t a, size_t b, size_t *out);
+
+/* BG_OK if `path` is an existing regular file we may read, else BG_ERR_IO with
+ * a message naming it (missing, a directory, permission denied). */
+BG_IO_HIDDEN bg_status bg_io_check_readable(const char *path, char *err, size_t errlen);
+
+/* Create an empty, unique temporary file next to `path` that keeps its
+ * extension (dir/.name.tmpXXXXXX.ext), so writers that pick the format from
+ * the extension still work. BG_ERR_IO with a message if the folder is not
+ * writable. */
+BG_IO_HIDDEN bg_status bg_io_make_temp(const char *path, std::string *tmp, char *err, size_t errlen);
+
+/* Give the temporary file the permissions a new file would get, and rename it
+ * onto `path`. On failure removes it and returns BG_ERR_IO. */
+BG_IO_HIDDEN bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen);
+
+#endif
