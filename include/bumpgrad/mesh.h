@@ -1,0 +1,86 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file mesh.h
+ * @brief Triangle meshes for the tools, loaded through assimp (libbumpgrad_io,
+ *        C++ inside, C interface). Not part of the core library.
+ *
+ * Every mesh of a file's scene is flattened into one indexed triangle list:
+ * node transforms are applied (a mesh referenced by two nodes appears twice),
+ * polygons are triangulated, points and lines are dropped (and counted).
+ * Attributes are kept per vertex as SoA arrays, the layout the batch calls of
+ * noise.h and surfgrad.h take, so a caller feeds them without copying.
+ */
+#ifndef BUMPGRAD_MESH_H
+#define BUMPGRAD_MESH_H
+
+#include <stdint.h>
+
+#include "common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** An indexed triangle mesh. All arrays are owned (free with bg_mesh_free). */
+typedef struct bg_mesh {
+    size_t vertex_count;   /**< <= UINT32_MAX */
+    size_t triangle_count;
+    float *px, *py, *pz;   /**< positions; may hold NaN/Inf when the file does */
+    float *nx, *ny, *nz;   /**< per-vertex normals as stored in the file (not
+                                renormalized unless a node transform was applied),
+                                or all three NULL when the file has none */
+    float *u, *v;          /**< texture coordinate set 0, or both NULL when absent
+                                (in a multi-mesh scene: absent if any mesh lacks it) */
+    uint32_t *indices;     /**< 3 * triangle_count vertex indices, counter-clockwise
+                                seen from the side the normals point to */
+    size_t mesh_count;     /**< meshes of the scene that were flattened (instances counted) */
+    size_t dropped_primitives; /**< points and lines that were not triangles */
+} bg_mesh;
+
+/** Loading options (bit flags) for bg_mesh_load_ex. */
+typedef enum bg_mesh_flags {
+    /** Default vertex joining: PLY keeps the file's vertices one for one and in
+     *  order (so output vertex i is input vertex i); the other formats, whose
+     *  importers emit one vertex per face corner (OBJ, STL, OFF, ...), get
+     *  vertices with identical position, normal and UV merged, so that smooth
+     *  vertex normals can be formed across triangles. */
+    BG_MESH_JOIN_AUTO = 0,
+    BG_MESH_JOIN_ALWAYS = 1, /**< merge identical vertices for every format */
+    BG_MESH_JOIN_NEVER = 2,  /**< never merge: vertices as the importer produced them */
+    /** Ignore normals stored in the file (then nx/ny/nz are NULL), before
+     *  joining, so that vertices differing only in their normal merge. STL
+     *  files are always loaded this way: their normals are per facet, not per
+     *  vertex. */
+    BG_MESH_DROP_NORMALS = 4
+} bg_mesh_flags;
+
+/** Load a mesh with bg_mesh_load_ex(path, BG_MESH_JOIN_AUTO, ...). */
+BG_API bg_status bg_mesh_load(const char *path, bg_mesh *out, char *err, size_t errlen);
+
+/** Load any format assimp reads (OBJ, PLY, OFF, STL, glTF, ...).
+ *  Errors (the message in err names the file; *out is left empty):
+ *   - BG_ERR_IO: missing or unreadable file;
+ *   - BG_ERR_FORMAT: assimp cannot parse it, or it holds no triangle
+ *     (empty scene, point cloud, lines only), or it has more than UINT32_MAX
+ *     vertices;
+ *   - BG_ERR_OUT_OF_MEMORY.
+ *  Degenerate content is loaded as it is: zero-area triangles, triangles with
+ *  repeated indices and NaN/Inf coordinates stay, for the caller to handle.
+ *
+ *  On POSIX systems the import runs in a forked child process that sends the
+ *  mesh back through a pipe, so that an importer crash or an assimp internal
+ *  assertion (abort) on a corrupt file becomes BG_ERR_FORMAT with a message
+ *  instead of ending the caller; if no child can be started the import runs
+ *  in-process. The child only loads and writes to the pipe, then _exit()s.
+ *  Thread-safe (each call uses its own importer). */
+BG_API bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
+                                 size_t errlen);
+
+/** Free the arrays of a mesh and zero it; NULL and an already freed mesh are fine. */
+BG_API void bg_mesh_free(bg_mesh *mesh);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* BUMPGRAD_MESH_H */

@@ -1,0 +1,296 @@
+/* SPDX-License-Identifier: MIT */
+/* UV-space normal-map baker of `bumpgrad mesh --bake-normal-map`.
+ *
+ * Each texel centre inside a triangle's UV image gets barycentric weights;
+ * position and vertex normal are interpolated with them, the solid height's
+ * gradient is evaluated at that position and the interpolated normal is
+ * perturbed with Listing 3 (Mikkelsen 2010): n' = normalize(n - grad_S h).
+ * No derivative of the UV map enters the perturbation; UVs only say where the
+ * result is stored and, for tangent space, in which frame it is expressed.
+ *
+ * Tangent space follows the mikkTSpace decoding convention: a renderer
+ * interpolates the vertex tangent t, normal n (both unnormalized after
+ * interpolation) and uses b = sign * cross(n, t), n_out = normalize(m.x t +
+ * m.y b + m.z n). The baker stores m = normalize(M^-1 n') with M = [t b n]
+ * built from the same interpolated, unnormalized vectors, so that decoding
+ * gives back n' exactly (up to quantization), not just approximately as an
+ * orthonormalized per-texel frame would. */
+#include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cli_mesh.h"
+
+typedef struct bake_ctx {
+    const bg_mesh *m;
+    const float *nx, *ny, *nz;
+    const mesh_tangents *tan; /* NULL for object space */
+    const cli_height *h;
+    bg_perturb_method method;
+    int width;
+    const int32_t *tri; /* triangle per texel, -1 = empty */
+    const float *b1, *b2;
+    float *vec; /* 3 floats per texel: the unit vector m to encode */
+    atomic_int oom;
+} bake_ctx;
+
+static void flat_vector(const bake_ctx *c, float *out)
+{
+    /* Where there is no frame the least surprising value is "unperturbed":
+     * +z in tangent space; in object space there is no such direction, so 0. */
+    out[0] = 0.0f;
+    out[1] = 0.0f;
+    out[2] = c->tan ? 1.0f : 0.0f;
+}
+
+static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
+{
+    (void)worker;
+    bake_ctx *c = ctxp;
+    const bg_mesh *m = c->m;
+    size_t W = (size_t)c->width;
+    size_t cnt = 0;
+    for (size_t k = begin * W; k < end * W; k++)
+        cnt += c->tri[k] >= 0;
+    if (cnt == 0)
+        return;
+    float *buf = malloc(cnt * 9 * sizeof *buf);
+    size_t *idx = malloc(cnt * sizeof *idx);
+    if (!buf || !idx) {
+        free(buf);
+        free(idx);
+        atomic_store(&c->oom, 1);
+        return;
+    }
+    float *px = buf, *py = buf + cnt, *pz = buf + 2 * cnt;
+    float *qx = buf + 3 * cnt, *qy = buf + 4 * cnt, *qz = buf + 5 * cnt;
+    float *gx = buf + 6 * cnt, *gy = buf + 7 * cnt, *gz = buf + 8 * cnt;
+    size_t j = 0;
+    for (size_t k = begin * W; k < end * W; k++) {
+        int32_t t = c->tri[k];
+        if (t < 0)
+            continue;
+        const uint32_t *ix = m->indices + 3 * (size_t)t;
+        float w1 = c->b1[k], w2 = c->b2[k], w0 = 1.0f - w1 - w2;
+        px[j] = w0 * m->px[ix[0]] + w1 * m->px[ix[1]] + w2 * m->px[ix[2]];
+        py[j] = w0 * m->py[ix[0]] + w1 * m->py[ix[1]] + w2 * m->py[ix[2]];
+        pz[j] = w0 * m->pz[ix[0]] + w1 * m->pz[ix[1]] + w2 * m->pz[ix[2]];
+        qx[j] = w0 * c->nx[ix[0]] + w1 * c->nx[ix[1]] + w2 * c->nx[ix[2]];
+        qy[j] = w0 * c->ny[ix[0]] + w1 * c->ny[ix[1]] + w2 * c->ny[ix[2]];
+        qz[j] = w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]];
+        idx[j++] = k;
+    }
+    cli_height_gradient(c->h, px, py, pz, cnt, NULL, gx, gy, gz);
+    /* bg_perturb normalizes the interpolated normal itself. Outputs alias the
+     * gradient inputs exactly, which the batch call allows. */
+    bg_perturb_batch(c->method, qx, qy, qz, gx, gy, gz, cnt, gx, gy, gz);
+    for (j = 0; j < cnt; j++) {
+        size_t k = idx[j];
+        float *out = c->vec + 3 * k;
+        double n1x = gx[j], n1y = gy[j], n1z = gz[j];
+        if (n1x == 0.0 && n1y == 0.0 && n1z == 0.0) {
+            flat_vector(c, out); /* the sentinel: no normal to perturb here */
+            continue;
+        }
+        if (!c->tan) {
+            out[0] = (float)n1x, out[1] = (float)n1y, out[2] = (float)n1z;
+            continue;
+        }
+        int32_t t = c->tri[k];
+        const uint32_t *ix = m->indices + 3 * (size_t)t;
+        int s = mesh_uv_signed_area(m, (size_t)t) > 0.0 ? 0 : 1;
+        double sign = s == 0 ? 1.0 : -1.0;
+        double w1 = c->b1[k], w2 = c->b2[k], w0 = 1.0 - w1 - w2;
+        const float *const *T = (const float *const *)c->tan->t[s];
+        double tx = w0 * T[0][ix[0]] + w1 * T[0][ix[1]] + w2 * T[0][ix[2]];
+        double ty = w0 * T[1][ix[0]] + w1 * T[1][ix[1]] + w2 * T[1][ix[2]];
+        double tz = w0 * T[2][ix[0]] + w1 * T[2][ix[1]] + w2 * T[2][ix[2]];
+        double nx = qx[j], ny = qy[j], nz = qz[j];
+        double bx = sign * (ny * tz - nz * ty);
+        double by = sign * (nz * tx - nx * tz);
+        double bz = sign * (nx * ty - ny * tx);
+        /* Rows of M^-1 times det(M): b x n, n x t, t x b. */
+        double r0x = by * nz - bz * ny, r0y = bz * nx - bx * nz, r0z = bx * ny - by * nx;
+        double r1x = ny * tz - nz * ty, r1y = nz * tx - nx * tz, r1z = nx * ty - ny * tx;
+        double r2x = ty * bz - tz * by, r2y = tz * bx - tx * bz, r2z = tx * by - ty * bx;
+        double det = tx * r0x + ty * r0y + tz * r0z;
+        double mx = r0x * n1x + r0y * n1y + r0z * n1z;
+        double my = r1x * n1x + r1y * n1y + r1z * n1z;
+        double mz = r2x * n1x + r2y * n1y + r2z * n1z;
+        if (det < 0.0)
+            mx = -mx, my = -my, mz = -mz;
+        double l = sqrt(mx * mx + my * my + mz * mz);
+        if (!(isfinite(l) && l > 0.0 && det != 0.0)) {
+            flat_vector(c, out);
+            continue;
+        }
+        out[0] = (float)(mx / l), out[1] = (float)(my / l), out[2] = (float)(mz / l);
+    }
+    free(buf);
+    free(idx);
+}
+
+/* Fill texel centres inside triangle t with its id and barycentric weights.
+ * Texel (x, y) has its centre at u = (x + 0.5) / W, v = 1 - (y + 0.5) / H:
+ * row 0 is the top of the image and v grows upward (the OpenGL / glTF-after-
+ * assimp convention). Centres on a shared edge go to the later triangle. */
+static int raster_triangle(const bg_mesh *m, size_t t, int W, int H, int32_t *tri, float *b1,
+                           float *b2)
+{
+    const uint32_t *ix = m->indices + 3 * t;
+    double X[3], Y[3];
+    for (int k = 0; k < 3; k++) {
+        X[k] = (double)m->u[ix[k]] * W;
+        Y[k] = (1.0 - (double)m->v[ix[k]]) * H;
+        if (!isfinite(X[k]) || !isfinite(Y[k]))
+            return 0;
+    }
+    double area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (!(area != 0.0 && isfinite(area)))
+        return 0;
+    double xmin = fmin(X[0], fmin(X[1], X[2])), xmax = fmax(X[0], fmax(X[1], X[2]));
+    double ymin = fmin(Y[0], fmin(Y[1], Y[2])), ymax = fmax(Y[0], fmax(Y[1], Y[2]));
+    double x0 = fmax(ceil(xmin - 0.5), 0.0), x1 = fmin(floor(xmax - 0.5), W - 1.0);
+    double y0 = fmax(ceil(ymin - 0.5), 0.0), y1 = fmin(floor(ymax - 0.5), H - 1.0);
+    double inv = 1.0 / area;
+    for (double yy = y0; yy <= y1; yy += 1.0) {
+        double cy = yy + 0.5;
+        for (double xx = x0; xx <= x1; xx += 1.0) {
+            double cx = xx + 0.5;
+            double l0 = ((X[2] - X[1]) * (cy - Y[1]) - (Y[2] - Y[1]) * (cx - X[1])) * inv;
+            double l1 = ((X[0] - X[2]) * (cy - Y[2]) - (Y[0] - Y[2]) * (cx - X[2])) * inv;
+            double l2 = 1.0 - l0 - l1;
+            if (l0 < 0.0 || l1 < 0.0 || l2 < 0.0)
+                continue;
+            size_t k = (size_t)yy * (size_t)W + (size_t)xx;
+            tri[k] = (int32_t)t;
+            b1[k] = (float)l1;
+            b2[k] = (float)l2;
+        }
+    }
+    return 1;
+}
+
+/* Edge padding: each pass gives every empty texel that touches a filled one
+ * (8-neighbourhood, filled before this pass) the normalized mean of those
+ * neighbours, so bilinear filtering and mip-mapping near UV seams read
+ * plausible normals instead of the background. level[k]: 0 empty, 1 baked,
+ * p + 1 filled by pass p. */
+static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tangent)
+{
+    size_t filled = 0;
+    for (int p = 1; p <= passes; p++) {
+        size_t this_pass = 0;
+        for (int y = 0; y < H; y++) {
+            for (int x = 0; x < W; x++) {
+                size_t k = (size_t)y * (size_t)W + (size_t)x;
+                if (level[k])
+                    continue;
+                double s[3] = {0, 0, 0};
+                int n = 0;
+                for (int dy = -1; dy <= 1; dy++) {
+                    for (int dx = -1; dx <= 1; dx++) {
+                        int xx = x + dx, yy = y + dy;
+                        if ((dx | dy) == 0 || xx < 0 || yy < 0 || xx >= W || yy >= H)
+                            continue;
+                        size_t q = (size_t)yy * (size_t)W + (size_t)xx;
+                        if (level[q] == 0 || level[q] > p)
+                            continue;
+                        s[0] += vec[3 * q], s[1] += vec[3 * q + 1], s[2] += vec[3 * q + 2];
+                        n++;
+                    }
+                }
+                if (!n)
+                    continue;
+                double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+                float *o = vec + 3 * k;
+                if (l > 0.0) {
+                    o[0] = (float)(s[0] / l), o[1] = (float)(s[1] / l), o[2] = (float)(s[2] / l);
+                } else {
+                    o[0] = 0.0f, o[1] = 0.0f, o[2] = tangent ? 1.0f : 0.0f;
+                }
+                level[k] = (uint16_t)(p + 1);
+                this_pass++;
+            }
+        }
+        filled += this_pass;
+        if (!this_pass)
+            break; /* nothing left that touches a filled texel */
+    }
+    return filled;
+}
+
+int mesh_bake(const char *cmd, const bg_mesh *m, const float *nx, const float *ny,
+              const float *nz, const cli_height *h, const mesh_bake_opts *o, bg_image *img,
+              mesh_bake_stats *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    memset(img, 0, sizeof *img);
+    int W = o->width, H = o->height;
+    size_t npix = (size_t)W * (size_t)H;
+    if (m->triangle_count > (size_t)INT32_MAX)
+        return cli_fail(cmd, "too many triangles to bake (%zu)", m->triangle_count);
+
+    mesh_tangents tan;
+    memset(&tan, 0, sizeof tan);
+    if (o->space == MESH_BAKE_TANGENT && mesh_vertex_tangents(cmd, m, nx, ny, nz, &tan) != 0)
+        return CLI_FAIL;
+
+    int32_t *tri = malloc(npix * sizeof *tri);
+    float *b1 = malloc(npix * sizeof *b1), *b2 = malloc(npix * sizeof *b2);
+    float *vec = calloc(npix * 3, sizeof *vec);
+    uint16_t *level = calloc(npix, sizeof *level);
+    int rc = 0;
+    if (!tri || !b1 || !b2 || !vec || !level) {
+        rc = cli_fail(cmd, "out of memory for a %dx%d bake", W, H);
+        goto done;
+    }
+    for (size_t k = 0; k < npix; k++)
+        tri[k] = -1;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        if (!mesh_triangle_usable(m, t) || !raster_triangle(m, t, W, H, tri, b1, b2))
+            stats->skipped++;
+    }
+
+    bake_ctx c = {.m = m, .nx = nx, .ny = ny, .nz = nz,
+                  .tan = o->space == MESH_BAKE_TANGENT ? &tan : NULL,
+                  .h = h, .method = o->method, .width = W, .tri = tri, .b1 = b1, .b2 = b2,
+                  .vec = vec};
+    atomic_init(&c.oom, 0);
+    size_t rows = (size_t)(16384 / W) + 1;
+    cli_parallel_for((size_t)H, rows, o->threads, shade_rows, &c);
+    if (atomic_load(&c.oom)) {
+        rc = cli_fail(cmd, "out of memory while baking");
+        goto done;
+    }
+    for (size_t k = 0; k < npix; k++) {
+        if (tri[k] >= 0) {
+            level[k] = 1;
+            stats->covered++;
+        }
+    }
+    stats->padded = pad(vec, level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+
+    if (bg_image_alloc(img, W, H, 3) != BG_OK) {
+        rc = cli_fail(cmd, "out of memory for a %dx%d image", W, H);
+        goto done;
+    }
+    for (size_t k = 0; k < npix; k++) {
+        float v[3];
+        if (level[k]) {
+            v[0] = vec[3 * k], v[1] = vec[3 * k + 1], v[2] = vec[3 * k + 2];
+        } else {
+            v[0] = 0.0f, v[1] = 0.0f, v[2] = o->space == MESH_BAKE_TANGENT ? 1.0f : 0.0f;
+        }
+        for (int ch = 0; ch < 3; ch++)
+            img->pixels[3 * k + (size_t)ch] = 0.5f * v[ch] + 0.5f;
+    }
+done:
+    free(tri);
+    free(b1);
+    free(b2);
+    free(vec);
+    free(level);
+    mesh_tangents_free(&tan);
+    return rc;
+}

@@ -1,0 +1,579 @@
+// SPDX-License-Identifier: MIT
+// Mesh loading of the tools over assimp 5 (include/bumpgrad/mesh.h).
+// Every extern "C" entry point catches: a C++ exception crossing into the C
+// command line would be undefined behaviour, and assimp allocates freely.
+#include "bumpgrad/mesh.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <algorithm>
+#include <new>
+#include <string>
+#include <vector>
+
+#include <csignal>
+
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+void set_error(char *err, size_t errlen, const char *fmt, ...)
+#if defined(__GNUC__) || defined(__clang__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+void set_error(char *err, size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    std::vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
+// Case-insensitive test of the file name's extension, which is how assimp
+// itself picks an importer first.
+bool has_extension(const char *path, const char *ext)
+{
+    const char *dot = std::strrchr(path, '.');
+    const char *slash = std::strrchr(path, '/');
+    if (!dot || (slash && dot < slash))
+        return false;
+    ++dot;
+    for (; *dot && *ext; ++dot, ++ext) {
+        char a = *dot, b = *ext;
+        if (a >= 'A' && a <= 'Z')
+            a = static_cast<char>(a - 'A' + 'a');
+        if (a != b)
+            return false;
+    }
+    return *dot == 0 && *ext == 0;
+}
+
+// A mesh of the scene with the accumulated transform of the node that uses it.
+struct instance {
+    const aiMesh *mesh;
+    aiMatrix4x4 transform;
+    bool identity;
+};
+
+void collect(const aiScene *scene, const aiNode *node, const aiMatrix4x4 &parent,
+             std::vector<instance> &out, int depth)
+{
+    // A malformed file can make a node its own descendant (glTF RecursiveNodes);
+    // real scene graphs are nowhere near this deep.
+    if (!node || depth > 256)
+        return;
+    aiMatrix4x4 m = parent * node->mTransformation;
+    for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+        unsigned k = node->mMeshes[i];
+        if (k < scene->mNumMeshes && scene->mMeshes[k])
+            out.push_back({scene->mMeshes[k], m, m.IsIdentity()});
+    }
+    for (unsigned i = 0; i < node->mNumChildren; ++i)
+        collect(scene, node->mChildren[i], m, out, depth + 1);
+}
+
+template <typename T> T *alloc_array(size_t n)
+{
+    // calloc checks n * size for overflow itself.
+    return static_cast<T *>(std::calloc(n ? n : 1, sizeof(T)));
+}
+
+bg_status precheck(const char *path, char *err, size_t errlen)
+{
+    // Tell "missing / unreadable" (I/O) from "not a mesh" (format) before
+    // assimp, which reports both as a failed import.
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
+        return BG_ERR_IO;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        set_error(err, errlen, "'%s': is a directory, not a mesh file", path);
+        return BG_ERR_IO;
+    }
+    FILE *probe = std::fopen(path, "rb");
+    if (!probe) {
+        set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
+        return BG_ERR_IO;
+    }
+    std::fclose(probe);
+    if (S_ISREG(st.st_mode) && st.st_size == 0) {
+        set_error(err, errlen, "'%s': empty file, no mesh in it", path);
+        return BG_ERR_FORMAT;
+    }
+    return BG_OK;
+}
+
+bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err, size_t errlen)
+{
+    const bool is_ply = has_extension(path, "ply");
+    const bool is_stl = has_extension(path, "stl");
+    unsigned join = flags & 3u;
+    bool do_join = join == BG_MESH_JOIN_ALWAYS || (join == BG_MESH_JOIN_AUTO && !is_ply);
+    bool drop_normals = (flags & BG_MESH_DROP_NORMALS) || is_stl;
+
+    Assimp::Importer importer;
+    unsigned pp = aiProcess_Triangulate;
+    if (do_join)
+        pp |= aiProcess_JoinIdenticalVertices;
+    if (drop_normals) {
+        // Removed before joining, so vertices that differ only by a facet
+        // normal merge and smooth normals can be formed over them.
+        importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS);
+        pp |= aiProcess_RemoveComponent;
+    }
+    // Two phases: import and validate, check the faces ourselves, and only
+    // then post-process. Debian's assimp is built with its internal asserts
+    // on, and a truncated PLY yields empty faces that pass its validation but
+    // abort() the process inside the triangulation step.
+    const aiScene *scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+    if (!scene) {
+        const char *why = importer.GetErrorString();
+        set_error(err, errlen, "'%s': not a readable mesh (%s)", path,
+                  why && *why ? why : "unknown format");
+        return BG_ERR_FORMAT;
+    }
+    for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
+        const aiMesh *am = scene->mMeshes[k];
+        if (!am)
+            continue;
+        for (unsigned f = 0; f < am->mNumFaces; ++f) {
+            const aiFace &face = am->mFaces[f];
+            bool bad = face.mNumIndices == 0 || !face.mIndices;
+            for (unsigned c = 0; !bad && c < face.mNumIndices; ++c)
+                bad = face.mIndices[c] >= am->mNumVertices;
+            if (bad) {
+                set_error(err, errlen,
+                          "'%s': malformed mesh (face %u of mesh %u has %u vertex indices, "
+                          "or one beyond its %u vertices; truncated file?)",
+                          path, f, k, face.mNumIndices, am->mNumVertices);
+                return BG_ERR_FORMAT;
+            }
+        }
+    }
+    scene = importer.ApplyPostProcessing(pp);
+    if (!scene) {
+        const char *why = importer.GetErrorString();
+        set_error(err, errlen, "'%s': not a usable mesh (%s)", path,
+                  why && *why ? why : "post-processing failed");
+        return BG_ERR_FORMAT;
+    }
+    if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mNumMeshes == 0) {
+        set_error(err, errlen, "'%s': the file holds no mesh", path);
+        return BG_ERR_FORMAT;
+    }
+
+    std::vector<instance> inst;
+    aiMatrix4x4 identity;
+    collect(scene, scene->mRootNode, identity, inst, 0);
+    if (inst.empty()) {
+        // Meshes no node refers to: take them as they are rather than lose them.
+        for (unsigned k = 0; k < scene->mNumMeshes; ++k)
+            if (scene->mMeshes[k])
+                inst.push_back({scene->mMeshes[k], identity, true});
+    }
+
+    size_t nv = 0, nt = 0, dropped = 0;
+    bool normals = !drop_normals, uvs = true;
+    for (const instance &in : inst) {
+        const aiMesh *m = in.mesh;
+        nv += m->mNumVertices;
+        for (unsigned f = 0; f < m->mNumFaces; ++f) {
+            if (m->mFaces[f].mNumIndices == 3)
+                ++nt;
+            else
+                ++dropped;
+        }
+        normals = normals && m->HasNormals();
+        uvs = uvs && m->HasTextureCoords(0);
+    }
+    if (nt == 0) {
+        set_error(err, errlen, "'%s': no triangles in the mesh (%zu vertices, %zu points/lines)",
+                  path, nv, dropped);
+        return BG_ERR_FORMAT;
+    }
+    if (nv > UINT32_MAX) {
+        set_error(err, errlen, "'%s': %zu vertices, more than the 2^32-1 this tool indexes", path,
+                  nv);
+        return BG_ERR_FORMAT;
+    }
+
+    bg_mesh m{};
+    m.vertex_count = nv;
+    m.triangle_count = nt;
+    m.mesh_count = inst.size();
+    m.dropped_primitives = dropped;
+    m.px = alloc_array<float>(nv);
+    m.py = alloc_array<float>(nv);
+    m.pz = alloc_array<float>(nv);
+    bool ok = m.px && m.py && m.pz;
+    if (normals) {
+        m.nx = alloc_array<float>(nv);
+        m.ny = alloc_array<float>(nv);
+        m.nz = alloc_array<float>(nv);
+        ok = ok && m.nx && m.ny && m.nz;
+    }
+    if (uvs) {
+        m.u = alloc_array<float>(nv);
+        m.v = alloc_array<float>(nv);
+        ok = ok && m.u && m.v;
+    }
+    m.indices = alloc_array<uint32_t>(nt * 3 >= nt ? nt * 3 : SIZE_MAX);
+    ok = ok && m.indices;
+    if (!ok) {
+        bg_mesh_free(&m);
+        set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path, nv, nt);
+        return BG_ERR_OUT_OF_MEMORY;
+    }
+
+    size_t base = 0, t = 0;
+    for (const instance &in : inst) {
+        const aiMesh *am = in.mesh;
+        // Normals go through the inverse transpose, and a mirroring transform
+        // (negative determinant) reverses the winding, so that the triangle
+        // order still agrees with the side the normals point to.
+        aiMatrix3x3 linear(in.transform);
+        aiMatrix3x3 normal_matrix = linear;
+        bool flip = false;
+        if (!in.identity) {
+            float det = linear.Determinant();
+            flip = det < 0.0f;
+            if (det != 0.0f)
+                normal_matrix.Inverse().Transpose();
+        }
+        for (unsigned i = 0; i < am->mNumVertices; ++i) {
+            aiVector3D p = am->mVertices[i];
+            if (!in.identity)
+                p = in.transform * p;
+            m.px[base + i] = p.x;
+            m.py[base + i] = p.y;
+            m.pz[base + i] = p.z;
+            if (normals) {
+                aiVector3D n = am->mNormals[i];
+                if (!in.identity) {
+                    n = normal_matrix * n;
+                    float len = n.Length();
+                    if (len > 0.0f && std::isfinite(len))
+                        n /= len;
+                }
+                m.nx[base + i] = n.x;
+                m.ny[base + i] = n.y;
+                m.nz[base + i] = n.z;
+            }
+            if (uvs) {
+                m.u[base + i] = am->mTextureCoords[0][i].x;
+                m.v[base + i] = am->mTextureCoords[0][i].y;
+            }
+        }
+        for (unsigned f = 0; f < am->mNumFaces; ++f) {
+            const aiFace &face = am->mFaces[f];
+            if (face.mNumIndices != 3)
+                continue;
+            for (unsigned c = 0; c < 3; ++c) {
+                unsigned idx = face.mIndices[flip ? 2 - c : c];
+                if (idx >= am->mNumVertices) {
+                    // ValidateDataStructure rejects this already; kept so that
+                    // no caller can ever index out of the arrays.
+                    bg_mesh_free(&m);
+                    set_error(err, errlen, "'%s': face %u of mesh '%s' refers to vertex %u of %u",
+                              path, f, am->mName.C_Str(), idx, am->mNumVertices);
+                    return BG_ERR_FORMAT;
+                }
+                m.indices[3 * t + c] = static_cast<uint32_t>(base + idx);
+            }
+            ++t;
+        }
+        base += am->mNumVertices;
+    }
+    *out = m;
+    return BG_OK;
+}
+
+bg_status import_guarded(const char *path, unsigned flags, bg_mesh *out, char *err,
+                         size_t errlen)
+{
+    try {
+        return import_scene(path, flags, out, err, errlen);
+    } catch (const std::bad_alloc &) {
+        bg_mesh_free(out);
+        set_error(err, errlen, "'%s': out of memory while loading", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        bg_mesh_free(out);
+        set_error(err, errlen, "'%s': not a readable mesh (%s)", path, e.what());
+        return BG_ERR_FORMAT;
+    } catch (...) {
+        bg_mesh_free(out);
+        set_error(err, errlen, "'%s': not a readable mesh", path);
+        return BG_ERR_FORMAT;
+    }
+}
+
+// ---- the import in a child process ----
+// Debian's assimp is built with its internal asserts on (they call abort()),
+// and malformed files have crashed its importers before; neither can be caught
+// in-process. So the import runs in a forked child that sends the flattened
+// mesh back through a pipe: a crash becomes an error message naming the file,
+// and the parent never holds assimp's scene, which also lowers its peak memory.
+
+struct wire_header {
+    int32_t status;
+    int32_t has_normals, has_uvs;
+    uint64_t vertex_count, triangle_count, mesh_count, dropped;
+    char err[512];
+};
+
+bool write_all(int fd, const void *p, size_t n)
+{
+    const char *c = static_cast<const char *>(p);
+    while (n) {
+        ssize_t k = write(fd, c, n);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            return false;
+        c += k;
+        n -= static_cast<size_t>(k);
+    }
+    return true;
+}
+
+bool read_all(int fd, void *p, size_t n)
+{
+    char *c = static_cast<char *>(p);
+    while (n) {
+        ssize_t k = read(fd, c, n);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            return false;
+        c += k;
+        n -= static_cast<size_t>(k);
+    }
+    return true;
+}
+
+// Cap the child's address space. A corrupt count in a header (assimp's own
+// test file invalid/OutOfMemory.off claims 3.5e9 vertices) otherwise makes the
+// importer reserve tens of GB, which overcommit grants, and then fill it, so
+// the machine swaps instead of the load failing. Real imports need a small
+// multiple of the file size (measured: ~7x for a binary PLY, docs/MESH.md).
+// BUMPGRAD_MESH_MAX_MB overrides the extra allowance; 0 disables the cap.
+size_t child_memory_cap(const char *path)
+{
+    const char *env = std::getenv("BUMPGRAD_MESH_MAX_MB");
+    struct stat st;
+    uint64_t file = stat(path, &st) == 0 && st.st_size > 0 ? static_cast<uint64_t>(st.st_size) : 0;
+    uint64_t extra = std::max<uint64_t>(uint64_t(2) << 30, file * 256);
+    if (env && *env) {
+        char *end;
+        unsigned long long mb = std::strtoull(env, &end, 10);
+        if (*end == 0)
+            extra = mb << 20;
+        if (*end == 0 && mb == 0)
+            return 0;
+    }
+    // The mappings the process already has (libraries, the caller's data).
+    FILE *f = std::fopen("/proc/self/statm", "r");
+    unsigned long long pages = 0;
+    if (!f)
+        return 0;
+    int got = std::fscanf(f, "%llu", &pages);
+    std::fclose(f);
+    if (got != 1)
+        return 0;
+    uint64_t now = pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
+    return static_cast<size_t>(std::min<uint64_t>(now + extra, SIZE_MAX));
+}
+
+[[noreturn]] void child_main(int fd, const char *path, unsigned flags)
+{
+    bg_mesh m{};
+    wire_header h{};
+    size_t cap = child_memory_cap(path);
+    if (cap) {
+        struct rlimit rl;
+        if (getrlimit(RLIMIT_AS, &rl) == 0 && (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur > cap)) {
+            rl.rlim_cur = cap;
+            setrlimit(RLIMIT_AS, &rl);
+        }
+    }
+    h.status = import_guarded(path, flags, &m, h.err, sizeof h.err);
+    if (h.status == BG_ERR_OUT_OF_MEMORY && cap) {
+        set_error(h.err, sizeof h.err,
+                  "'%s': the import needs more than %zu MiB, far more than a file of this "
+                  "size should (corrupt counts in the file?); set BUMPGRAD_MESH_MAX_MB to "
+                  "allow more",
+                  path, cap >> 20);
+        h.status = BG_ERR_FORMAT;
+    }
+    h.has_normals = m.nx != nullptr;
+    h.has_uvs = m.u != nullptr;
+    h.vertex_count = m.vertex_count;
+    h.triangle_count = m.triangle_count;
+    h.mesh_count = m.mesh_count;
+    h.dropped = m.dropped_primitives;
+    bool ok = write_all(fd, &h, sizeof h);
+    size_t nv = m.vertex_count * sizeof(float);
+    const float *arrays[] = {m.px, m.py, m.pz, m.nx, m.ny, m.nz, m.u, m.v};
+    for (const float *a : arrays)
+        if (ok && a)
+            ok = write_all(fd, a, nv);
+    if (ok && h.status == BG_OK)
+        ok = write_all(fd, m.indices, m.triangle_count * 3 * sizeof(uint32_t));
+    // _exit: no atexit handlers or stdio flushes of the parent's state.
+    _exit(ok ? 0 : 1);
+}
+
+// BG_OK/BG_ERR_*: the load's result; -1: could not start a child (the caller
+// then loads in-process).
+int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, size_t errlen)
+{
+    int fds[2];
+    if (pipe(fds) != 0)
+        return -1;
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]);
+        close(fds[1]);
+        return -1;
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        // A parent that stops reading (out of memory) must end the child, not
+        // leave it blocked: the default SIGPIPE action does that.
+        signal(SIGPIPE, SIG_DFL);
+        child_main(fds[1], path, flags);
+    }
+    close(fds[1]);
+    wire_header h{};
+    bg_mesh m{};
+    int rc = BG_OK;
+    bool got = read_all(fds[0], &h, sizeof h);
+    if (got && h.status == BG_OK) {
+        if (h.vertex_count > UINT32_MAX || h.triangle_count > SIZE_MAX / 12) {
+            got = false;
+        } else {
+            m.vertex_count = h.vertex_count;
+            m.triangle_count = h.triangle_count;
+            m.mesh_count = h.mesh_count;
+            m.dropped_primitives = h.dropped;
+            size_t nv = m.vertex_count;
+            float **arrays[] = {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v};
+            for (int k = 0; k < 8 && got; ++k) {
+                if ((k >= 3 && k < 6 && !h.has_normals) || (k >= 6 && !h.has_uvs))
+                    continue;
+                *arrays[k] = alloc_array<float>(nv);
+                if (!*arrays[k]) {
+                    rc = BG_ERR_OUT_OF_MEMORY;
+                    break;
+                }
+                got = read_all(fds[0], *arrays[k], nv * sizeof(float));
+            }
+            if (got && rc == BG_OK) {
+                m.indices = alloc_array<uint32_t>(m.triangle_count * 3);
+                if (!m.indices)
+                    rc = BG_ERR_OUT_OF_MEMORY;
+                else
+                    got = read_all(fds[0], m.indices, m.triangle_count * 3 * sizeof(uint32_t));
+            }
+        }
+    }
+    close(fds[0]);
+    int wstatus = 0;
+    while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
+    }
+    if (rc == BG_ERR_OUT_OF_MEMORY) {
+        set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path,
+                  m.vertex_count, m.triangle_count);
+        bg_mesh_free(&m);
+        return BG_ERR_OUT_OF_MEMORY;
+    }
+    if (!got) {
+        bg_mesh_free(&m);
+        if (WIFSIGNALED(wstatus))
+            set_error(err, errlen,
+                      "'%s': the mesh importer (assimp) crashed on this file (signal %d); "
+                      "it is probably corrupt",
+                      path, WTERMSIG(wstatus));
+        else
+            set_error(err, errlen, "'%s': the mesh importer stopped without a result", path);
+        return BG_ERR_FORMAT;
+    }
+    if (h.status != BG_OK) {
+        h.err[sizeof h.err - 1] = 0;
+        set_error(err, errlen, "%s", h.err);
+        return h.status;
+    }
+    *out = m;
+    return BG_OK;
+}
+
+} // namespace
+
+extern "C" {
+
+bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
+                          size_t errlen)
+{
+    if (err && errlen)
+        err[0] = 0;
+    if (!out)
+        return BG_ERR_NULL_POINTER;
+    std::memset(out, 0, sizeof *out);
+    if (!path)
+        return BG_ERR_NULL_POINTER;
+    if (flags & ~7u || (flags & 3u) == 3u) {
+        set_error(err, errlen, "'%s': invalid mesh loading flags %#x", path, flags);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    bg_status st = precheck(path, err, errlen);
+    if (st != BG_OK)
+        return st;
+    int rc = load_isolated(path, flags, out, err, errlen);
+    if (rc >= 0)
+        return static_cast<bg_status>(rc);
+    // No child process available (fork or pipe refused): the same import,
+    // in-process, without the crash isolation.
+    return import_guarded(path, flags, out, err, errlen);
+}
+
+bg_status bg_mesh_load(const char *path, bg_mesh *out, char *err, size_t errlen)
+{
+    return bg_mesh_load_ex(path, BG_MESH_JOIN_AUTO, out, err, errlen);
+}
+
+void bg_mesh_free(bg_mesh *mesh)
+{
+    if (!mesh)
+        return;
+    std::free(mesh->px);
+    std::free(mesh->py);
+    std::free(mesh->pz);
+    std::free(mesh->nx);
+    std::free(mesh->ny);
+    std::free(mesh->nz);
+    std::free(mesh->u);
+    std::free(mesh->v);
+    std::free(mesh->indices);
+    std::memset(mesh, 0, sizeof *mesh);
+}
+
+} // extern "C"
