@@ -110,6 +110,22 @@ int cli_outfile_open(const char *cmd, const char *path, cli_outfile *out)
         out->path = dup_str(path);
         return out->path ? 0 : cli_fail(cmd, "out of memory");
     }
+    /* An existing non-regular target (/dev/null, a FIFO, a terminal) is written
+     * in place: renaming a temporary over it would replace the device node. */
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        if (S_ISDIR(st.st_mode))
+            return cli_fail(cmd, "cannot write output %s: it is a folder", path);
+        out->path = dup_str(path);
+        out->fp = out->path ? fopen(path, "wb") : NULL;
+        if (!out->fp) {
+            int e = errno;
+            free(out->path);
+            out->path = NULL;
+            return cli_fail(cmd, "cannot open output %s: %s", path, strerror(e));
+        }
+        return 0;
+    }
     size_t n = strlen(path);
     out->path = dup_str(path);
     out->tmp_path = malloc(n + sizeof ".tmp.XXXXXX");
@@ -144,13 +160,16 @@ int cli_outfile_commit(const char *cmd, cli_outfile *out)
     if (!out->fp)
         return cli_fail(cmd, "output %s is not open", out->path ? out->path : "?");
     if (!out->tmp_path) {
-        /* stdout: a full disk or a closed pipe shows up only at flush time. */
+        /* stdout or a device/FIFO: a full disk or a closed pipe shows up only at
+         * flush time. */
         int bad = fflush(out->fp) != 0 || ferror(out->fp);
         int e = errno;
+        if (out->fp != stdout && fclose(out->fp) != 0 && !bad)
+            bad = 1, e = errno;
         out->fp = NULL;
         free(out->path);
         out->path = NULL;
-        return bad ? cli_fail(cmd, "writing standard output failed: %s", strerror(e)) : 0;
+        return bad ? cli_fail(cmd, "writing the output failed: %s", strerror(e)) : 0;
     }
     int bad = fflush(out->fp) != 0 || ferror(out->fp);
     int e = errno;
@@ -219,6 +238,11 @@ char *cli_temp_path_like(const char *path)
 
 int cli_rename_into_place(const char *cmd, const char *tmp_path, const char *path)
 {
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        unlink(tmp_path);
+        return cli_fail(cmd, "refusing to replace %s: it is not a regular file", path);
+    }
     /* The writer (OpenImageIO, OpenVDB) may not have synced: do it here, or a
      * crash right after the rename could leave an empty file under the real name. */
     int fd = open(tmp_path, O_RDONLY);

@@ -112,6 +112,14 @@ static mode_t new_file_mode(void)
 
 bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen)
 {
+    // Renaming over a device node or FIFO (say /dev/null, as root) would replace
+    // it with a regular file: refuse instead.
+    struct stat st;
+    if (::stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        std::remove(tmp.c_str());
+        bg_io_set_error(err, errlen, "refusing to replace '%s': it is not a regular file", path);
+        return BG_ERR_IO;
+    }
     (void)::chmod(tmp.c_str(), new_file_mode());
     if (std::rename(tmp.c_str(), path) != 0) {
         int e = errno;
