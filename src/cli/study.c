@@ -129,7 +129,6 @@ int study_gnuplot(const char *cmd, const char *script_path, const char *const *o
 
 typedef struct pt {
     double t, e;
-    char label[64];
 } pt;
 
 static int cmp_pt(const void *a, const void *b)
@@ -162,8 +161,6 @@ int study_chart_accuracy(const char *cmd, const char *dir)
         if (sscanf(line, "%31[^,],%31[^,],%15[^,],%lf,%lf", m, par, pr, &ns, &mean) == 5 ||
             (sscanf(line, "%31[^,],,%15[^,],%lf,%lf", m, pr, &ns, &mean) == 4 && (par[0] = 0, 1))) {
             pts[np].t = ns, pts[np].e = mean > 1e-7 ? mean : 1e-7;
-            snprintf(pts[np].label, sizeof pts[np].label, "%s%s%s %s", m, par[0] ? " " : "", par,
-                     strcmp(pr, "float64") ? "f32" : "f64");
             np++;
         }
     }
