@@ -1,0 +1,62 @@
+/* SPDX-License-Identifier: MIT */
+/* Peer for `bumpgrad bench`: Sean Barrett's stb_perlin (Debian libstb-dev), used
+ * only through its public header. This is the one translation unit of bumpgrad
+ * that instantiates it, so STB_PERLIN_IMPLEMENTATION is defined here and nowhere
+ * else. stb_perlin is also improved noise (Perlin 2002) in float, the closest
+ * peer to our noise3, so its ratios are the ones the targets refer to. */
+#define STB_PERLIN_IMPLEMENTATION
+#include <stb/stb_perlin.h>
+
+#include "bench_peers.h"
+#include "bumpgrad/noise.h"
+
+/* Wrap 0 means "no wrapping" (period 256, as ours). */
+static inline float stb_value(float x, float y, float z)
+{
+    return stb_perlin_noise3(x, y, z, 0, 0, 0);
+}
+
+static void stb_value_batch(const float *x, const float *y, const float *z, size_t n, float *v,
+                            float *gx, float *gy, float *gz)
+{
+    (void)gx, (void)gy, (void)gz;
+    for (size_t i = 0; i < n; i++)
+        v[i] = stb_value(x[i], y[i], z[i]);
+}
+
+static void stb_fbm_batch(const float *x, const float *y, const float *z, size_t n, float *v,
+                          float *gx, float *gy, float *gz)
+{
+    (void)gx, (void)gy, (void)gz;
+    for (size_t i = 0; i < n; i++)
+        v[i] = stb_perlin_fbm_noise3(x[i], y[i], z[i], 2.0f, 0.5f, 6);
+}
+
+/* The division uses the step actually taken in float, as bg_fractal3_grad_central
+ * does, so both sides do the same arithmetic around the 7 evaluations. */
+static void stb_grad_central_batch(const float *x, const float *y, const float *z, size_t n,
+                                   float *v, float *gx, float *gy, float *gz)
+{
+    const float h = BG_DEFAULT_CENTRAL_STEP;
+    for (size_t i = 0; i < n; i++) {
+        float px = x[i], py = y[i], pz = z[i];
+        float xp = px + h, xm = px - h, yp = py + h, ym = py - h, zp = pz + h, zm = pz - h;
+        v[i] = stb_value(px, py, pz);
+        gx[i] = (stb_value(xp, py, pz) - stb_value(xm, py, pz)) / (xp - xm);
+        gy[i] = (stb_value(px, yp, pz) - stb_value(px, ym, pz)) / (yp - ym);
+        gz[i] = (stb_value(px, py, zp) - stb_value(px, py, zm)) / (zp - zm);
+    }
+}
+
+size_t cli_bench_peers_stb(cli_peer *out, size_t cap)
+{
+    const cli_peer all[] = {
+        {"stb_perlin", CLI_PEER_VALUE, stb_value_batch},
+        {"stb_perlin", CLI_PEER_FBM, stb_fbm_batch},
+        {"stb_perlin", CLI_PEER_GRAD_CENTRAL, stb_grad_central_batch},
+    };
+    size_t k = 0;
+    for (; k < sizeof all / sizeof all[0] && k < cap; k++)
+        out[k] = all[k];
+    return k;
+}

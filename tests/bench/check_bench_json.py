@@ -1,0 +1,81 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Checks the shape of `bumpgrad bench --json`, never its speed: the command
+exits 0, prints one JSON array, and every record carries the documented keys
+with sane types, for every kernel name. Timing thresholds would make the test
+fail on a busy machine, which is what benchmark() numbers are for."""
+import json
+import math
+import subprocess
+import sys
+
+OURS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_grad_central",
+        "perturb_surfgrad", "perturb_additive", "perturb_height"]
+PEER_LIBS = {"stb_perlin", "libnoise", "glm"}
+PEER_OPS = {"value", "fbm", "grad_central"}
+ISAS = {"scalar", "sse2", "avx2", "avx512", "neon", "baseline"}
+NUMBERS = ["msamples_per_s", "ns_per_sample", "min", "max"]
+OPTIONAL = ["cpu_share", "speedup_vs_scalar", "thread_scaling", "vs_best_peer"]
+
+
+def fail(msg):
+    print("check_bench_json: " + msg, file=sys.stderr)
+    sys.exit(1)
+
+
+def main():
+    exe = sys.argv[1]
+    args = [exe, "bench", "--quick", "--json", "--samples", "4096", "--runs", "1"]
+    proc = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    sys.stderr.write(proc.stderr)
+    if proc.returncode != 0:
+        fail("exit status %d from %s" % (proc.returncode, " ".join(args)))
+    try:
+        rows = json.loads(proc.stdout)
+    except ValueError as e:
+        fail("stdout is not JSON: %s" % e)
+    if not isinstance(rows, list) or not rows:
+        fail("expected a non-empty JSON array")
+    seen = set()
+    for r in rows:
+        if not isinstance(r, dict):
+            fail("record is not an object: %r" % (r,))
+        for k in ["kernel", "isa", "threads", "samples", "runs"] + NUMBERS + OPTIONAL:
+            if k not in r:
+                fail("record %r lacks %r" % (r, k))
+        name = r["kernel"]
+        if name.startswith("peer:"):
+            parts = name.split(":")
+            if len(parts) != 3 or parts[1] not in PEER_LIBS or parts[2] not in PEER_OPS:
+                fail("bad peer name %r" % name)
+            if r["threads"] != 1:
+                fail("peers run on one thread: %r" % (r,))
+        elif name not in OURS:
+            fail("unknown kernel %r" % name)
+        if r["isa"] not in ISAS:
+            fail("unknown isa %r" % r["isa"])
+        if not isinstance(r["threads"], int) or r["threads"] < 1:
+            fail("bad threads in %r" % (r,))
+        if r["samples"] != 4096 or r["runs"] != 1:
+            fail("samples/runs not as asked in %r" % (r,))
+        for k in NUMBERS:
+            v = r[k]
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                fail("%s is not a positive number in %r" % (k, r))
+        if not r["min"] <= r["msamples_per_s"] <= r["max"]:
+            fail("min <= median <= max fails in %r" % (r,))
+        for k in OPTIONAL:
+            v = r[k]
+            if v is not None and (not isinstance(v, (int, float)) or not v > 0):
+                fail("%s must be null or positive in %r" % (k, r))
+        seen.add(name)
+    missing = [k for k in OURS if k not in seen]
+    if missing:
+        fail("kernels missing from the output: %s" % ", ".join(missing))
+    if not any(r["isa"] == "scalar" for r in rows):
+        fail("no scalar rows")
+    print("check_bench_json: %d records, all %d kernels" % (len(rows), len(OURS)))
+
+
+if __name__ == "__main__":
+    main()
