@@ -42,6 +42,12 @@ int cli_fail(const char *cmd, const char *fmt, ...);
 int cli_parse_float(const char *cmd, const char *opt, const char *text, float *out);
 int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out);
 int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, long hi, long *out);
+/* Names of functions ("noise", "fbm", "turbulence") and perturbation methods
+ * ("surfgrad", "additive", "additive-perlin"): parse (error names the option) and print. */
+int cli_parse_function(const char *cmd, const char *opt, const char *text, bg_function *out);
+int cli_parse_method(const char *cmd, const char *opt, const char *text, bg_perturb_method *out);
+const char *cli_function_name(bg_function f);
+const char *cli_method_name(bg_perturb_method m);
 /* Option value: argv[*i + 1], advancing *i; error if missing. */
 int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **out);
 

@@ -122,15 +122,8 @@ int cmd_eval(int argc, char **argv)
         } else if (strcmp(o, "--function") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
                 return rc;
-            if (strcmp(v, "noise") == 0)
-                f.function = BG_FUNC_NOISE;
-            else if (strcmp(v, "fbm") == 0)
-                f.function = BG_FUNC_FBM;
-            else if (strcmp(v, "turbulence") == 0)
-                f.function = BG_FUNC_TURBULENCE;
-            else
-                return cli_usage_error(
-                    cmd, "--function: expected noise, fbm or turbulence, got \"%s\"", v);
+            if ((rc = cli_parse_function(cmd, o, v, &f.function)))
+                return rc;
         } else if (strcmp(o, "--octaves") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
                 (rc = cli_parse_int(cmd, o, v, 1, BG_MAX_OCTAVES, &l)))

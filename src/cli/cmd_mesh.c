@@ -209,17 +209,6 @@ static int is_device(const char *path)
     return !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
 }
 
-static const char *method_name(bg_perturb_method m)
-{
-    return m == BG_PERTURB_SURFGRAD ? "surfgrad" : m == BG_PERTURB_ADDITIVE ? "additive"
-                                                                            : "additive-perlin";
-}
-
-static const char *function_name(bg_function f)
-{
-    return f == BG_FUNC_NOISE ? "noise" : f == BG_FUNC_FBM ? "fbm" : "turbulence";
-}
-
 int cmd_mesh(int argc, char **argv)
 {
     const char *cmd = "mesh", *in_path = NULL, *out_path = NULL, *bake_path = NULL, *v;
@@ -239,15 +228,8 @@ int cmd_mesh(int argc, char **argv)
         } else if (strcmp(o, "--method") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
                 return rc;
-            if (strcmp(v, "surfgrad") == 0)
-                method = BG_PERTURB_SURFGRAD;
-            else if (strcmp(v, "additive") == 0)
-                method = BG_PERTURB_ADDITIVE;
-            else if (strcmp(v, "additive-perlin") == 0)
-                method = BG_PERTURB_ADDITIVE_PERLIN;
-            else
-                return cli_usage_error(
-                    cmd, "--method: expected surfgrad, additive or additive-perlin, got \"%s\"", v);
+            if ((rc = cli_parse_method(cmd, o, v, &method)))
+                return rc;
         } else if (strcmp(o, "--compare") == 0) {
             compare = 1;
         } else if (strcmp(o, "--ascii") == 0) {
@@ -450,7 +432,7 @@ int cmd_mesh(int argc, char **argv)
         snprintf(comment, sizeof comment,
                  "bumpgrad %s mesh method=%s function=%s octaves=%d lacunarity=%g gain=%g "
                  "amplitude=%g frequency=%g gradient=%s normals=%s",
-                 bg_version_string(), method_name(method), function_name(hh->fractal.function),
+                 bg_version_string(), cli_method_name(method), cli_function_name(hh->fractal.function),
                  hh->fractal.octaves, (double)hh->fractal.lacunarity, (double)hh->fractal.gain,
                  (double)hh->amplitude, (double)hh->frequency,
                  hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic",
@@ -514,11 +496,11 @@ int cmd_mesh(int argc, char **argv)
         fprintf(fp, "height: mean %.6g over %zu vertices (%zu non-finite)\n",
                 tot.finite_height ? tot.sum_height / (double)tot.finite_height : 0.0,
                 tot.finite_height, tot.nonfinite_height);
-        fprintf(fp, "perturbation (%s): mean %.4f deg, max %.4f deg\n", method_name(method),
+        fprintf(fp, "perturbation (%s): mean %.4f deg, max %.4f deg\n", cli_method_name(method),
                 tot.sum_angle / valid, tot.max_angle);
         fprintf(fp, "inward (dot(n', n) <= 0): surfgrad %zu (%.4f%%), %s %zu (%.4f%%)\n",
                 tot.inward_surf, 100.0 * (double)tot.inward_surf / valid,
-                method == BG_PERTURB_SURFGRAD ? "additive" : method_name(method), tot.inward_add,
+                method == BG_PERTURB_SURFGRAD ? "additive" : cli_method_name(method), tot.inward_add,
                 100.0 * (double)tot.inward_add / valid);
         fprintf(fp, "surfgrad vs additive: mean %.4f deg, max %.4f deg\n", tot.sum_cmp / valid,
                 tot.max_cmp);

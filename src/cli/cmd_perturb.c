@@ -98,15 +98,8 @@ int cmd_perturb(int argc, char **argv)
         } else if (strcmp(o, "--method") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
                 return rc;
-            if (strcmp(v, "surfgrad") == 0)
-                method = BG_PERTURB_SURFGRAD;
-            else if (strcmp(v, "additive") == 0)
-                method = BG_PERTURB_ADDITIVE;
-            else if (strcmp(v, "additive-perlin") == 0)
-                method = BG_PERTURB_ADDITIVE_PERLIN;
-            else
-                return cli_usage_error(
-                    cmd, "--method: expected surfgrad, additive or additive-perlin, got \"%s\"", v);
+            if ((rc = cli_parse_method(cmd, o, v, &method)))
+                return rc;
         } else if (strcmp(o, "--threads") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
                 (rc = cli_parse_int(cmd, o, v, 0, 1024, &l)))

@@ -546,12 +546,11 @@ int cmd_render(int argc, char **argv)
     memcpy(scene.light, o.light, sizeof scene.light);
 
     const bg_height *h = &o.h.h;
-    static const char *const fn[] = {"noise", "fbm", "turbulence"};
     printf("render scene=%s", render_shape_name(o.shape));
     if (scene.mesh)
         printf(" grid=%d triangles=%zu", o.grid, mesh.ntri);
     printf(" size=%dx%d spp=%d function=%s octaves=%d frequency=%g amplitude=%g\n", o.width,
-           o.height, o.ss * o.ss, fn[h->fractal.function], h->fractal.octaves,
+           o.height, o.ss * o.ss, cli_function_name(h->fractal.function), h->fractal.octaves,
            (double)h->frequency, (double)h->amplitude);
 
     render_job job;

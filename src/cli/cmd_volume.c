@@ -220,13 +220,12 @@ int cmd_volume(int argc, char **argv)
     }
     {
         /* The parameters ride along in the file, so a grid says what it holds. */
-        static const char *const fn[] = {"noise", "fbm", "turbulence"};
         const bg_height *hh = &height.h;
         char text[256];
         snprintf(text, sizeof text,
                  "%s octaves=%d lacunarity=%.9g gain=%.9g amplitude=%.9g frequency=%.9g "
                  "gradient=%s",
-                 fn[hh->fractal.function], hh->fractal.octaves, (double)hh->fractal.lacunarity,
+                 cli_function_name(hh->fractal.function), hh->fractal.octaves, (double)hh->fractal.lacunarity,
                  (double)hh->fractal.gain, (double)hh->amplitude, (double)hh->frequency,
                  hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic");
         bg_vdb_writer_set_meta(w, "bumpgrad:height", text);

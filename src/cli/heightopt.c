@@ -20,20 +20,6 @@ void cli_height_init(cli_height *h)
     h->h = bg_height_default();
 }
 
-static int parse_function(const char *cmd, const char *text, bg_function *out)
-{
-    if (strcmp(text, "noise") == 0)
-        *out = BG_FUNC_NOISE;
-    else if (strcmp(text, "fbm") == 0)
-        *out = BG_FUNC_FBM;
-    else if (strcmp(text, "turbulence") == 0)
-        *out = BG_FUNC_TURBULENCE;
-    else
-        return cli_usage_error(cmd, "--function: expected noise, fbm or turbulence, got \"%s\"",
-                               text);
-    return 0;
-}
-
 static int parse_gradient(const char *cmd, const char *text, bg_gradient_mode *out)
 {
     if (strcmp(text, "analytic") == 0)
@@ -78,7 +64,7 @@ int cli_height_option(const char *cmd, cli_height *h, int argc, char **argv, int
     if (strcmp(o, "--function") == 0) {
         VALUE();
         /* Only the kind changes: --octaves given earlier must survive. */
-        return parse_function(cmd, v, &h->h.fractal.function) ? CLI_USAGE : 1;
+        return cli_parse_function(cmd, "--function", v, &h->h.fractal.function) ? CLI_USAGE : 1;
     }
     if (strcmp(o, "--octaves") == 0) {
         VALUE();
