@@ -474,20 +474,28 @@ void KFN(fractal3_grad_fp)(const bg_fractal *f, const bg_real *fp, const bg_real
     }
 }
 
-/* The fused call with footprints (world units, scaled by the frequency like p). */
-void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,
-                            const bg_real *px, const bg_real *py, const bg_real *pz,
-                            const bg_real *nx, const bg_real *ny, const bg_real *nz, size_t n,
-                            bg_real *height, bg_real *ox, bg_real *oy, bg_real *oz)
+/* Fused height -> normal: h(p) = A F(f p), grad h = A f F'(f p), then eq. 4.
+ * With `fp` (footprints in world units, scaled by the frequency like p) the
+ * octaves are footprint-weighted and the gradient is always analytic. */
+BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, const bg_real *fp,
+                                   const bg_real *px, const bg_real *py, const bg_real *pz,
+                                   const bg_real *nx, const bg_real *ny, const bg_real *nz,
+                                   size_t n, bg_real *height, bg_real *ox, bg_real *oy,
+                                   bg_real *oz)
 {
     vf freq = vf_set1(h->frequency), amp = vf_set1(h->amplitude);
     vf af = vf_set1(h->amplitude * h->frequency);
+    vf step = vf_set1(h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP);
+    int central = !fp && h->gradient == BG_GRADIENT_CENTRAL;
     BG_FOR_BATCH(i, c, n)
     {
         vf qx = vf_mul(vf_loadn(px + i, c), freq);
         vf qy = vf_mul(vf_loadn(py + i, c), freq);
         vf qz = vf_mul(vf_loadn(pz + i, c), freq);
-        corner r = fractal_fp_vec(&h->fractal, qx, qy, qz, 1, 1, vf_mul(vf_loadn(fp + i, c), freq));
+        corner r = fp        ? fractal_fp_vec(&h->fractal, qx, qy, qz, 1, 1,
+                                              vf_mul(vf_loadn(fp + i, c), freq))
+                   : central ? fractal_central_vec(&h->fractal, step, qx, qy, qz)
+                             : fractal_vec(&h->fractal, qx, qy, qz, 1);
         v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
         v3 gg = {vf_mul(af, r.gx), vf_mul(af, r.gy), vf_mul(af, r.gz)};
         v3 o = perturb_vec(m, nn, gg);
@@ -499,32 +507,20 @@ void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_re
     }
 }
 
-/* Fused height -> normal: h(p) = A F(f p), grad h = A f F'(f p), then eq. 4. */
+void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,
+                            const bg_real *px, const bg_real *py, const bg_real *pz,
+                            const bg_real *nx, const bg_real *ny, const bg_real *nz, size_t n,
+                            bg_real *height, bg_real *ox, bg_real *oy, bg_real *oz)
+{
+    perturb_height_impl(h, m, fp, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+}
+
 void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real *px,
                          const bg_real *py, const bg_real *pz, const bg_real *nx,
                          const bg_real *ny, const bg_real *nz, size_t n, bg_real *height,
                          bg_real *ox, bg_real *oy, bg_real *oz)
 {
-    vf freq = vf_set1(h->frequency), amp = vf_set1(h->amplitude);
-    vf af = vf_set1(h->amplitude * h->frequency);
-    vf step = vf_set1(h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP);
-    int central = h->gradient == BG_GRADIENT_CENTRAL;
-    BG_FOR_BATCH(i, c, n)
-    {
-        vf qx = vf_mul(vf_loadn(px + i, c), freq);
-        vf qy = vf_mul(vf_loadn(py + i, c), freq);
-        vf qz = vf_mul(vf_loadn(pz + i, c), freq);
-        corner r = central ? fractal_central_vec(&h->fractal, step, qx, qy, qz)
-                           : fractal_vec(&h->fractal, qx, qy, qz, 1);
-        v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
-        v3 gg = {vf_mul(af, r.gx), vf_mul(af, r.gy), vf_mul(af, r.gz)};
-        v3 o = perturb_vec(m, nn, gg);
-        if (height)
-            vf_storen(height + i, vf_mul(amp, r.v), c);
-        vf_storen(ox + i, o.x, c);
-        vf_storen(oy + i, o.y, c);
-        vf_storen(oz + i, o.z, c);
-    }
+    perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
 }
 #endif
 
