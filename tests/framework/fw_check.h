@@ -56,9 +56,17 @@ static inline rv rproj(rv n, rv g) { return rsub(g, rmul(n, rdot(n, g))); }
 
 static inline rv from_f(bg_vec3 a) { return R(a.x, a.y, a.z); }
 static inline rv from_d(bg_dvec3 a) { return R(a.x, a.y, a.z); }
+/* Through a volatile: gcc 12.2's SLP vectorizer folds neighbouring
+ * (double)(float)v round trips into no rounding at all (a miscompilation, see
+ * docs/ACCURACY.md), and the double references must see the float inputs. */
+static inline float fw_to_float(double v)
+{
+    volatile float f = (float)v;
+    return f;
+}
 static inline bg_vec3 to_f(rv a)
 {
-    bg_vec3 r = {(float)a.x, (float)a.y, (float)a.z};
+    bg_vec3 r = {fw_to_float(a.x), fw_to_float(a.y), fw_to_float(a.z)};
     return r;
 }
 static inline bg_dvec3 to_d(rv a)
