@@ -43,7 +43,8 @@ typedef enum bg_mesh_flags {
      *  order (so output vertex i is input vertex i); the other formats, whose
      *  importers emit one vertex per face corner (OBJ, STL, OFF, ...), get
      *  vertices with identical position, normal and UV merged, so that smooth
-     *  vertex normals can be formed across triangles. */
+     *  vertex normals can be formed across triangles. A mesh with a NaN/Inf
+     *  vertex position is never merged (assimp would merge it into others). */
     BG_MESH_JOIN_AUTO = 0,
     BG_MESH_JOIN_ALWAYS = 1, /**< merge identical vertices for every format */
     BG_MESH_JOIN_NEVER = 2,  /**< never merge: vertices as the importer produced them */

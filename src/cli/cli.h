@@ -59,7 +59,8 @@ typedef struct cli_outfile {
     char *path;     /* final path */
     char *tmp_path; /* temporary path, NULL for stdout */
 } cli_outfile;
-int cli_outfile_open(const char *cmd, const char *path, cli_outfile *out);  /* 0 or CLI_FAIL */
+/* 0, CLI_FAIL, or CLI_USAGE for an empty path. */
+int cli_outfile_open(const char *cmd, const char *path, cli_outfile *out);
 int cli_outfile_commit(const char *cmd, cli_outfile *out);                   /* 0 or CLI_FAIL */
 void cli_outfile_abort(cli_outfile *out);
 /* For writers that need a path (OpenImageIO, OpenVDB, PLY): make a temporary

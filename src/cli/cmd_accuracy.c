@@ -316,7 +316,10 @@ int cmd_accuracy(int argc, char **argv)
     double *dx = malloc(c.n * sizeof(double)), *dy = malloc(c.n * sizeof(double)),
            *dz = malloc(c.n * sizeof(double));
 
-    acc_row rows[64];
+    /* 43 fixed rows (2 analytic, 2 per central step, 3 forward, 8 footprint,
+     * 4 listing1) and one "truncated" row per octave below the count: 64 rows
+     * overflowed from --octaves 23 on. */
+    acc_row rows[43 + BG_MAX_OCTAVES];
     int nr = 0;
     static const double steps[] = {1e-7, 3e-7, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4,
                                    3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1};

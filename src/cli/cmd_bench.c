@@ -403,12 +403,16 @@ static int select_token(const char *tok, bench_sel *sel, const cli_peer *peers, 
             sel->peers[p] = hit = 1;
     }
     /* A known peer library that is not built in is not a usage error (the note
-     * at the end says why it is missing); a misspelt one is. */
+     * at the end says why it is missing); a misspelt library or operation is. */
     static const char *const known[] = {"stb_perlin", "libnoise", "glm"};
     for (size_t k = 0; !hit && k < sizeof known / sizeof known[0]; k++) {
         size_t len = strlen(known[k]);
-        hit = strncmp(tok, "peer:", 5) == 0 && strncmp(tok + 5, known[k], len) == 0 &&
-              (tok[5 + len] == '\0' || tok[5 + len] == ':');
+        if (strncmp(tok, "peer:", 5) != 0 || strncmp(tok + 5, known[k], len) != 0)
+            continue;
+        const char *rest = tok + 5 + len;
+        hit = rest[0] == '\0';
+        for (size_t op = 0; !hit && rest[0] == ':' && op < 3; op++)
+            hit = strcmp(rest + 1, peer_op_names[op]) == 0;
     }
     return hit ? 0 : -1;
 }
@@ -420,15 +424,20 @@ static int parse_kernels(const char *list, bench_sel *sel, const cli_peer *peers
     if (!copy)
         return cli_fail(BENCH_CMD, "out of memory");
     strcpy(copy, list);
-    int rc = 0;
+    int rc = 0, tokens = 0;
     char *save = NULL;
     for (char *tok = strtok_r(copy, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        tokens++;
         if (select_token(tok, sel, peers, npeers) != 0) {
             rc = cli_usage_error(BENCH_CMD,
                                  "--kernels: unknown kernel '%s' (see bumpgrad bench --help)", tok);
             break;
         }
     }
+    /* "" or "," would run nothing and still exit 0, like a passing benchmark. */
+    if (rc == 0 && tokens == 0)
+        rc = cli_usage_error(BENCH_CMD, "--kernels: empty list \"%s\" (see bumpgrad bench --help)",
+                             list);
     free(copy);
     return rc;
 }

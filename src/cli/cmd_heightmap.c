@@ -52,6 +52,9 @@ static void heightmap_help(FILE *fp)
           "                       smaller) so each ratio stays within [-128, 128].\n"
           "  -h, --help           this help\n"
           "\n"
+          "A NaN or infinite sample in IN (float images), or a gray level or unpacked\n"
+          "normal beyond float range, is an error naming the pixel (exit status 2).\n"
+          "\n"
           "OUT is written to a temporary file next to it and renamed on success: a\n"
           "failure never leaves a partial file or replaces an old one. IN and OUT may\n"
           "be the same file.\n"
@@ -123,6 +126,21 @@ static void to_normal_map(const float *hgt, int w, int h, float strength, int wr
             o[2] = (float)(0.5 * nz * inv + 0.5);
         }
     }
+}
+
+/* First texel whose unpacked normal 2*s-1 is not finite, or (size_t)-1. Such
+ * a texel has no slope: without this check it came out as an arbitrary
+ * +-128 or 0 (NaN slipping through the clamps). */
+static size_t first_bad_normal(const bg_image *in)
+{
+    const size_t n = (size_t)in->width * in->height;
+    for (size_t p = 0; p < n; p++) {
+        const float *s = in->pixels + p * in->channels;
+        if (!isfinite(2.0f * s[0] - 1.0f) || !isfinite(2.0f * s[1] - 1.0f) ||
+            !isfinite(2.0f * s[2] - 1.0f))
+            return p;
+    }
+    return (size_t)-1;
 }
 
 static void to_derivative_map(const bg_image *in, int y_down, float *out)
@@ -242,6 +260,13 @@ int cmd_heightmap(int argc, char **argv)
                                  in_path, in.channels);
             goto done;
         }
+        const size_t bad = first_bad_normal(&in);
+        if (bad != (size_t)-1) {
+            rc = cli_usage_error(CMD, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond float "
+                                      "range: a normal map needs finite values",
+                                 in_path, bad % (size_t)w, bad / (size_t)w);
+            goto done;
+        }
         to_derivative_map(&in, y_down, out.pixels);
     } else {
         float *hgt = malloc(sizeof *hgt * (size_t)w * h);
@@ -256,6 +281,16 @@ int cmd_heightmap(int argc, char **argv)
             const float *s = in.pixels + p * c;
             hgt[p] = c >= 3 ? wr * s[0] + wg * s[1] + wb * s[2] : s[0];
         }
+        /* A NaN or Inf height (float input, or a gray sum past FLT_MAX) would
+         * make NaN normals around it: refuse it, naming the first pixel. */
+        for (size_t p = 0; p < (size_t)w * h; p++)
+            if (!isfinite(hgt[p])) {
+                free(hgt);
+                rc = cli_usage_error(CMD, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond "
+                                          "float range: a height image needs finite values",
+                                     in_path, p % (size_t)w, p / (size_t)w);
+                goto done;
+            }
         to_normal_map(hgt, w, h, strength, wrap, y_down, out.pixels);
         free(hgt);
     }

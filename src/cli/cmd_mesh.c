@@ -44,7 +44,8 @@ static void mesh_help(FILE *fp)
             "  --recompute-normals   ignore normals in IN; use angle-weighted vertex\n"
             "                        normals (the default when IN has none)\n"
             "  --join MODE           auto (default: keep PLY vertices one for one, merge\n"
-            "                        identical vertices of other formats), always, never\n"
+            "                        identical vertices of other formats), always, never;\n"
+            "                        a mesh with a NaN/Inf position is never merged\n"
             "  --ascii               ASCII PLY instead of binary little-endian\n"
             "  --threads N           worker threads (default: all cores)\n"
             "  --quiet               no summary\n"
@@ -209,6 +210,16 @@ static int is_device(const char *path)
     return !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
 }
 
+/* Two names for one file: the same text, or both existing with one inode. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (strcmp(a, b) == 0)
+        return 1;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
 int cmd_mesh(int argc, char **argv)
 {
     const char *cmd = "mesh", *in_path = NULL, *out_path = NULL, *bake_path = NULL, *v;
@@ -312,6 +323,18 @@ int cmd_mesh(int argc, char **argv)
         return cli_usage_error(cmd, "--bake-normal-map needs --size N (or WxH)");
     if (!bake_path && bake.width != 0)
         return cli_usage_error(cmd, "--size is for --bake-normal-map");
+    /* One path for the PLY and the map: the later rename silently replaced
+     * the other output (exit 0, the bake lost). */
+    if (out_path && bake_path && same_file(out_path, bake_path))
+        return cli_usage_error(cmd, "OUT.ply and --bake-normal-map name the same file %s",
+                               out_path);
+    /* A PLY written over a mesh of another format destroys the source (a PLY
+     * input may be updated in place: same format, like heightmap IN = OUT). */
+    if (out_path && strcmp(out_path, "-") != 0 && !ends_with_ci(in_path, ".ply") &&
+        same_file(in_path, out_path))
+        return cli_usage_error(cmd, "OUT.ply %s is the input mesh, which is not a PLY: writing "
+                                    "it would replace the source",
+                               out_path);
     if (bake_path && is_device(bake_path))
         /* The image writer renames a temporary file into place, which would
          * replace a device node such as /dev/null with a regular file. */
@@ -463,8 +486,12 @@ int cmd_mesh(int argc, char **argv)
         bg_pixel_type type = (bg_pixel_type)bake_depth;
         if (bake_depth < 0)
             type = ends_with_ci(bake_path, ".exr") ? BG_PIXEL_HALF : BG_PIXEL_U8;
-        if (bg_image_write(bake_path, &img, type, 0, err, sizeof err) != BG_OK) {
-            rc = cli_fail(cmd, "%s", err);
+        bg_status ws = bg_image_write(bake_path, &img, type, 0, err, sizeof err);
+        if (ws != BG_OK) {
+            /* A file name without an image format is a usage error, as in
+             * heightmap; only the writing itself failing is an I/O failure. */
+            rc = ws == BG_ERR_INVALID_ARGUMENT ? cli_usage_error(cmd, "%s", err)
+                                               : cli_fail(cmd, "%s", err);
             goto done;
         }
     }

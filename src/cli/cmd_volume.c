@@ -90,6 +90,19 @@ static int parse_list(const char *opt, const char *text, int n, double *out)
     return 0;
 }
 
+/* Narrow [*a, *b] to the voxels whose centre lies within r of c on one axis,
+ * widened (by 1e-9 r and one voxel) so that rounding never drops a voxel the
+ * exact band test would keep. An empty result leaves *b = *a - 1. */
+static void clip_range(double c, double r, double voxel, long long *a, long long *b)
+{
+    r += 1e-9 * r;
+    const double lo = floor((c - r) / voxel) - 1.0, hi = ceil((c + r) / voxel) + 1.0;
+    if (lo > (double)*a)
+        *a = lo > (double)*b ? *b + 1 : (long long)lo;
+    if (hi < (double)*b)
+        *b = hi < (double)*a ? *a - 1 : (long long)hi;
+}
+
 typedef struct batch {
     const cli_height *height;
     double voxel;
@@ -161,6 +174,9 @@ int cmd_volume(int argc, char **argv)
         return cli_usage_error(CMD, "--voxel-size is required");
     if (!out_path)
         return cli_usage_error(CMD, "--output is required");
+    /* Elsewhere "-" is standard output; here it silently made a file named "-". */
+    if (strcmp(out_path, "-") == 0)
+        return cli_usage_error(CMD, "--output: a VDB file cannot go to standard output (\"-\")");
     if (height.grid_path)
         return cli_usage_error(CMD, "--height-grid: volume bakes a height function, not a grid");
     for (int a = 0; a < 3; a++)
@@ -189,13 +205,34 @@ int cmd_volume(int argc, char **argv)
         return cli_usage_error(CMD, "%llu voxels exceed the limit of %llu: raise --voxel-size, "
                                     "shrink --bbox or use --band-sphere",
                                (unsigned long long)dense, (unsigned long long)VOL_MAX_VOXELS);
+    /* Visit only the voxels the band can reach (ilo..ihi, and per row an x span
+     * below): the advice above is a big box with a band, and scanning the whole
+     * box for a small sphere would take hours. The exact band test still decides
+     * each voxel, so the result is the same as a full scan. */
+    long long ilo[3] = {lo[0], lo[1], lo[2]}, ihi[3] = {hi[0], hi[1], hi[2]};
+    if (have_band) {
+        rows = 1;
+        for (int a = 0; a < 3; a++) {
+            clip_range(band[a], band[3] + band[4], voxel, &ilo[a], &ihi[a]);
+            if (a > 0)
+                rows *= (uint64_t)(ihi[a] - ilo[a] + 1);
+        }
+        if (ihi[0] < ilo[0])
+            rows = 0;
+        /* Each row costs time even if the band misses it; a sphere this wide
+         * would also have more band voxels than the limit. */
+        if (rows > VOL_MAX_VOXELS)
+            return cli_usage_error(CMD, "--band-sphere: %llu rows of voxels to visit exceed the "
+                                        "limit of %llu: raise --voxel-size or shrink the sphere",
+                                   (unsigned long long)rows, (unsigned long long)VOL_MAX_VOXELS);
+    }
     int rc = cli_height_open(CMD, &height);
     if (rc)
         return rc;
 
     bg_vdb_writer *w = NULL;
     batch b = {.height = &height, .voxel = voxel};
-    const size_t cap = VOL_BATCH + (size_t)(hi[0] - lo[0] + 1);
+    const size_t cap = VOL_BATCH + (size_t)(ihi[0] - ilo[0] + 1);
     b.i = malloc(cap * sizeof *b.i);
     b.j = malloc(cap * sizeof *b.j);
     b.k = malloc(cap * sizeof *b.k);
@@ -235,7 +272,7 @@ int cmd_volume(int argc, char **argv)
     cli_progress_begin(&prog, "baking rows", (size_t)rows);
     size_t fill = 0, rows_done = 0;
     uint64_t total = 0;
-    const long long ny = hi[1] - lo[1] + 1;
+    const long long ny = ihi[1] - ilo[1] + 1;
     for (uint64_t r = 0; r <= rows; r++) {
         /* Flush a full batch, and whatever is left after the last row. */
         if (fill >= VOL_BATCH || (r == rows && fill > 0)) {
@@ -257,9 +294,30 @@ int cmd_volume(int argc, char **argv)
         }
         if (r == rows)
             break;
-        const int32_t k = (int32_t)(lo[2] + (long long)(r / (uint64_t)ny));
-        const int32_t j = (int32_t)(lo[1] + (long long)(r % (uint64_t)ny));
-        for (long long i = lo[0]; i <= hi[0]; i++) {
+        const int32_t k = (int32_t)(ilo[2] + (long long)(r / (uint64_t)ny));
+        const int32_t j = (int32_t)(ilo[1] + (long long)(r % (uint64_t)ny));
+        long long i0 = ilo[0], i1 = ihi[0], hole0 = 0, hole1 = -1;
+        if (have_band) {
+            /* The x span of the outer sphere on this row, and the part of it
+             * inside the inner sphere (radius R - W), shrunk by a voxel. The
+             * 1e-12 R^2 terms cover the cancellation in R^2 - q at tangent rows. */
+            const double dy = voxel * j - band[1], dz = voxel * k - band[2];
+            const double q = dy * dy + dz * dz, ro = band[3] + band[4], ri = band[3] - band[4];
+            clip_range(band[0], sqrt(fmax(ro * ro - q, 0.0) + 1e-12 * ro * ro), voxel, &i0, &i1);
+            const double inner = ri * ri - q - 1e-12 * ri * ri;
+            if (ri > 0.0 && inner > 0.0) {
+                const double si = sqrt(inner);
+                const double h0 = ceil((band[0] - si) / voxel) + 1.0,
+                             h1 = floor((band[0] + si) / voxel) - 1.0;
+                hole0 = h0 > (double)i0 ? (long long)fmin(h0, (double)i1 + 1.0) : i0;
+                hole1 = h1 < (double)i1 ? (long long)fmax(h1, (double)i0 - 1.0) : i1;
+            }
+        }
+        for (long long i = i0; i <= i1; i++) {
+            if (i == hole0 && hole0 <= hole1) {
+                i = hole1;
+                continue;
+            }
             if (have_band) {
                 /* Band test in double, on the same voxel centres the bake uses. */
                 const double dx = voxel * (double)i - band[0], dy = voxel * j - band[1],

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* `bumpgrad`: global options (--isa, --version, --help), then one subcommand
  * from the table below. Every subcommand lives in its own cmd_<name>.c. */
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
@@ -215,5 +216,10 @@ int main(int argc, char **argv)
     const cli_command *c = find_command(name);
     if (!c)
         return unknown_command(name);
-    return c->run(argc - i, argv + i);
+    rc = c->run(argc - i, argv + i);
+    /* Summaries and stats lines lost to a full disk or a closed stdout must not
+     * pass as success: stdio reports the error only when it flushes. */
+    if (rc == CLI_OK && (fflush(stdout) != 0 || ferror(stdout)))
+        rc = cli_fail(name, "writing to standard output failed: %s", strerror(errno));
+    return rc;
 }

@@ -105,6 +105,10 @@ static void sync_parent_dir(const char *path)
 int cli_outfile_open(const char *cmd, const char *path, cli_outfile *out)
 {
     memset(out, 0, sizeof *out);
+    /* "" would become a hidden ".tmp.XXXXXX" in the current folder and fail
+     * only at the rename, after all the work, with a message naming nothing. */
+    if (path[0] == '\0')
+        return cli_usage_error(cmd, "the output file name is empty");
     if (strcmp(path, "-") == 0) {
         out->fp = stdout;
         out->path = dup_str(path);

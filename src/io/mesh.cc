@@ -168,6 +168,20 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             }
         }
     }
+    // assimp's JoinIdenticalVertices takes a NaN position as equal to finite
+    // ones near it (a triangle (nan,0,0), (1,0,0), (0,1,0) came out as one
+    // vertex), so valid vertices would vanish. With any NaN/Inf position the
+    // vertices stay as imported; the bad ones get the sentinel normal later.
+    for (unsigned k = 0; (pp & aiProcess_JoinIdenticalVertices) && k < scene->mNumMeshes; ++k) {
+        const aiMesh *am = scene->mMeshes[k];
+        for (unsigned v = 0; am && am->mVertices && v < am->mNumVertices; ++v) {
+            const aiVector3D &p = am->mVertices[v];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+                pp &= ~static_cast<unsigned>(aiProcess_JoinIdenticalVertices);
+                break;
+            }
+        }
+    }
     scene = importer.ApplyPostProcessing(pp);
     if (!scene) {
         const char *why = importer.GetErrorString();

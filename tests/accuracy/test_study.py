@@ -64,6 +64,14 @@ try:
         r = subprocess.run([exe, "accuracy", "--samples", "abc", "--out", os.path.join(tmp, "x")],
                            capture_output=True, text=True)
         check(r.returncode == 2 and "--samples" in r.stderr, "bad --samples -> exit 2 naming the option")
+        # The most octaves allowed: one truncated row per octave below 32 (the row
+        # table held 64 rows and overflowed the stack from --octaves 23 on).
+        out32 = os.path.join(tmp, "acc32")
+        r = subprocess.run([exe, "accuracy", "--out", out32, "--samples", "4", "--runs", "1",
+                            "--no-chart", "--octaves", "32"], capture_output=True, text=True)
+        rows32 = list(csv.DictReader(open(os.path.join(out32, "accuracy.csv")))) if r.returncode == 0 else []
+        check(r.returncode == 0 and sum(x["method"] == "truncated" for x in rows32) == 31,
+              "--octaves 32: exit 0 and 31 truncated rows (rc %d %s)" % (r.returncode, r.stderr.strip()[-200:]))
     else:
         out = os.path.join(tmp, "stab")
         args = [exe, "stability", "--out", out, "--samples", "8000"]

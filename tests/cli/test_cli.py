@@ -578,6 +578,23 @@ def test_badinput():
             rc, _, err = run(["perturb", "-i", inp, "-o", os.path.join(ro, "o.csv")])
             check(rc == 1 and os.listdir(ro) == [], "read-only folder -> exit 1")
             os.chmod(ro, 0o755)
+    # Text on a full stdout (summaries, stats, help) is a failure, not exit 0.
+    if os.path.exists("/dev/full"):
+        with open("/dev/full", "wb") as full:
+            rc, _, err = run(["eval", "--help"], stdout=full)
+        check(rc == 1 and "standard output" in err, "stdout on /dev/full: exit 1 (%d %r)" % (rc, err))
+    # An empty output name is a usage error (it was exit 1, "writing  failed").
+    for cmd, data in (("eval", b"x,y,z\n1,2,3\n"), ("perturb", b"x,y,z,nx,ny,nz\n1,2,3,0,0,1\n")):
+        rc, out, err = run([cmd, "-i", "-", "-o", ""], stdin=data)
+        check(rc == 2 and "output file name is empty" in err,
+              "%s -o '': exit 2 with a message (%d %r)" % (cmd, rc, err.strip()))
+    # bench --kernels: a list that selects nothing, or a misspelt peer operation,
+    # is a usage error rather than an empty table with exit 0.
+    for kern in ("", ",", "peer:glm:bar", "peer:libnoise:"):
+        rc, out, err = run(["bench", "--kernels", kern, "--samples", "4", "--runs", "1",
+                            "--threads", "1"])
+        check(rc == 2 and "--kernels" in err and out == "",
+              "bench --kernels %r: exit 2 naming the option (%d %r)" % (kern, rc, err.strip()))
 
 
 # ---- streaming in constant memory ----

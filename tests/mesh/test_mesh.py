@@ -331,6 +331,22 @@ def group_degenerate(tmp):
     check(np.max(np.abs(N[:4] - ns)) < 2e-6, "good vertices: perturbed as the oracle says")
     check(np.all(np.isfinite(N)), "no NaN normal in the output")
 
+    # A NaN vertex in a joined (OBJ) mesh: assimp's joining took it as equal to
+    # its finite neighbours and one vertex came out; all three must stay.
+    for order in ([0, 1, 2], [1, 2, 0]):
+        pts = [("nan", 0, 0), (1, 0, 0), (0, 1, 0)]
+        src = os.path.join(tmp, "nan_first.obj")
+        with open(src, "w") as fh:
+            fh.write("".join("v %s %s %s\n" % pts[i] for i in order) + "f 1 2 3\n")
+        out = os.path.join(tmp, "nan_obj_out.ply")
+        for join in ("auto", "always"):
+            p = run([src, out, "--join", join], 0)
+            v, f, _ = read_ply(out)
+            P = stack(v, "x", "y", "z")
+            check(p.returncode == 0 and len(P) == 3 and f == [(0, 1, 2)] and
+                  np.sum(np.isnan(P[:, 0])) == 1 and np.sum(np.all(P == [1, 0, 0], axis=1)) == 1,
+                  "OBJ with a NaN vertex (order %s, --join %s): all 3 vertices kept" % (order, join))
+
 
 def listing(d):
     return sorted(os.listdir(d))
@@ -435,6 +451,26 @@ def group_errors(tmp):
         p = run(args)
         check(p.returncode == 2 and "error" in p.stderr, "usage error exits 2: " + what)
     untouched("usage errors")
+
+    # One path for OUT.ply and the map (the PLY silently replaced the map, exit
+    # 0), a PLY over a non-PLY input (the source mesh replaced), and a map name
+    # without an image format (exit 1 before): usage errors that write nothing.
+    box = os.path.join(tmp, "box_copy.obj")
+    box_bytes = open(os.path.join(MODELS, "OBJ", "box.obj"), "rb").read()
+    open(box, "wb").write(box_bytes)
+    uv_ply = os.path.join(tmp, "uv.ply")
+    check(run([wuson, uv_ply, "--quiet"]).returncode == 0, "PLY with UVs for the bake checks")
+    both = os.path.join(d, "both.png")
+    for args, what in (([wuson, both, "--bake-normal-map", both, "--size", "8"], "map = OUT.ply"),
+                       ([box, box], "OUT.ply = the OBJ input"),
+                       ([wuson, old, "--bake-normal-map", os.path.join(d, "n.txt"), "--size", "8"],
+                        "map without an image format")):
+        p = run(args)
+        check(p.returncode == 2 and "error" in p.stderr, "usage error exits 2: " + what)
+        untouched(what)
+    check(open(box, "rb").read() == box_bytes, "the OBJ input is left as it was")
+    p = run([uv_ply, uv_ply, "--quiet"])
+    check(p.returncode == 0, "a PLY input may be its own output (in place)")
 
 
 def bake_plane(tmp, mapping, space):

@@ -275,6 +275,20 @@ def t_volume(tmp):
     check(grids.get("gradient", (None, -1))[1] == want, f"band gradient voxels {grids}")
     check(f"{want} active voxels" in so, f"band stdout {so!r}")
 
+    # The same band in a huge box (the advice of the "too many voxels" error):
+    # only the band's neighbourhood is visited, so the same voxels come out in
+    # well under the run() timeout (a scan of the box would be 6.4e16 voxels).
+    rc, so, err = run(["volume", "--function", "fbm", "--octaves", "3",
+                       "--bbox", "-2e4,-2e4,-2e4,2e4,2e4,2e4", "--voxel-size", str(vs),
+                       "--band-sphere", ",".join(map(str, c + (r, wd))),
+                       "-o", os.path.join(tmp, "band_big.vdb")])
+    check(rc == 0 and f"{want} active voxels" in so, f"band in a huge box: rc {rc} {so!r} {err}")
+    # A band whose rows alone exceed the voxel limit is refused up front.
+    rc, so, err = run(["volume", "--bbox", "-2e4,-2e4,-2e4,2e4,2e4,2e4", "--voxel-size", str(vs),
+                       "--band-sphere", "0,0,0,1e4,0.01", "-o", os.path.join(tmp, "huge.vdb")])
+    check(rc == 2 and "--band-sphere" in err and not os.path.exists(os.path.join(tmp, "huge.vdb")),
+          f"band sphere too wide: rc {rc} {err}")
+
 
 def parse_csv(text):
     lines = [l for l in text.strip().splitlines()]
@@ -376,6 +390,21 @@ def t_badinput(tmp):
     rc, _, err = run(["heightmap", good, old, "--strength", "abc"])
     check(rc == 2 and "--strength" in err, f"bad --strength: rc {rc} {err}")
     check(untouched(), "usage errors touched the old output")
+    # NaN/Inf samples in a float input are an error naming the pixel, in both
+    # directions (they used to give NaN normals, or derivatives of +-128 or 0).
+    # PFM rows run bottom to top: file row 0 of 2 is image row 1.
+    for bad in (float("nan"), float("inf")):
+        pfm = os.path.join(tmp, "bad.pfm")
+        px = [0.5, 0.5, 1.0] * 4
+        px[3:6] = [bad] * 3
+        with open(pfm, "wb") as f:
+            f.write(b"PF\n2 2\n-1.0\n" + struct.pack("<12f", *px))
+        for extra, dest in (([], old), (["--to-derivative"], os.path.join(tmp, "d.exr"))):
+            rc, _, err = run(["heightmap", pfm, dest] + extra)
+            check(rc == 2 and "bad.pfm" in err and "pixel (1, 1)" in err,
+                  f"{bad} sample {extra}: rc {rc} {err}")
+        check(untouched() and not os.path.exists(os.path.join(tmp, "d.exr")),
+              f"{bad} sample: output written")
 
     # VDB side.
     vdb = os.path.join(tmp, "g.vdb")
@@ -412,6 +441,11 @@ def t_badinput(tmp):
                       "--height-grid", vdb, "-o", oldv])
     check(rc == 2 and "--height-grid" in err, f"grid into volume: rc {rc} {err}")
     check(open(oldv, "rb").read() == b"previous contents", "volume errors touched old output")
+    # "-" is standard output elsewhere; here it used to create a file named "-".
+    p = subprocess.run([EXE, "volume", "--bbox", "0,0,0,1,1,1", "--voxel-size", "0.5", "-o", "-"],
+                       cwd=tmp, capture_output=True, text=True, timeout=60)
+    check(p.returncode == 2 and "--output" in p.stderr and not os.path.exists(os.path.join(tmp, "-")),
+          f"volume -o -: rc {p.returncode} {p.stderr}")
     rc, _, err = run(["volume", "--bbox", "0,0,0,1,1,1", "--voxel-size", "0.1",
                       "-o", "/proc/bumpgrad_test.vdb"])
     check(rc == 1 and "bumpgrad_test.vdb" in err, f"unwritable vdb: rc {rc} {err}")
