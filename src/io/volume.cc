@@ -10,6 +10,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -17,6 +18,12 @@
 #include <mutex>
 #include <new>
 #include <string>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "io_util.h"
 
@@ -289,6 +296,55 @@ static bg_status open_impl(const char *path, const char *grid_name, bg_vdb_heigh
     return BG_OK;
 }
 
+// OpenVDB 10 trusts the chunk lengths inside compressed streams: some corrupt
+// files overflow its heap (glibc then aborts) instead of throwing. So the file
+// is read once in a child process first; if that child dies of a signal, the
+// file is reported as corrupt here instead of taking the command down. The
+// child is given 60 s; the parent then reads the file for real.
+static bg_status probe_in_child(const char *path, const char *grid_name, char *err, size_t errlen)
+{
+    std::fflush(nullptr);
+    pid_t pid = fork();
+    if (pid < 0)
+        return BG_OK; // cannot probe: fall back to reading in-process
+    if (pid == 0) {
+        int fd = ::open("/dev/null", O_WRONLY);
+        if (fd >= 0)
+            ::dup2(fd, 2); // the parent prints the one message
+        bg_vdb_height *h = nullptr;
+        char e[8];
+        bg_status s;
+        try {
+            s = open_impl(path, grid_name, &h, e, sizeof e);
+        } catch (...) {
+            s = BG_ERR_FORMAT;
+        }
+        ::_exit(s == BG_OK ? 0 : 3); // a clean error is reproduced by the parent
+    }
+    int status = 0;
+    for (int waited_ms = 0;; waited_ms += 10) {
+        pid_t r = ::waitpid(pid, &status, WNOHANG);
+        if (r == pid)
+            break;
+        if (r < 0 && errno != EINTR)
+            return BG_OK;
+        if (waited_ms >= 60000) {
+            ::kill(pid, SIGKILL);
+            ::waitpid(pid, &status, 0);
+            bg_io_set_error(err, errlen, "'%s': reading the VDB file took over 60 s; giving up", path);
+            return BG_ERR_FORMAT;
+        }
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, nullptr);
+    }
+    if (WIFSIGNALED(status)) {
+        bg_io_set_error(err, errlen, "'%s': corrupt VDB file (OpenVDB crashed reading it, signal %d)",
+                        path, WTERMSIG(status));
+        return BG_ERR_FORMAT;
+    }
+    return BG_OK;
+}
+
 bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_height **out,
                              char *err, size_t errlen)
 {
@@ -299,6 +355,9 @@ bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_hei
     }
     *out = nullptr;
     bg_status st = bg_io_check_readable(path, err, errlen);
+    if (st != BG_OK)
+        return st;
+    st = probe_in_child(path, grid_name, err, errlen);
     if (st != BG_OK)
         return st;
     try {
