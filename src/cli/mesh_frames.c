@@ -38,20 +38,26 @@ int mesh_triangle_usable(const bg_mesh *m, size_t t)
     return isfinite(a) && a > 0.0;
 }
 
+/* Stores v / |v| (normalized in double, rounded once) or, when v has no
+ * direction (zero, NaN, Inf: no usable triangle, or contributions that cancel
+ * exactly), the surfgrad.h sentinel (0,0,0). Returns 1 for the sentinel. */
+static int store_unit(dvec v, float *x, float *y, float *z)
+{
+    double l = dv_len(v);
+    if (!(isfinite(l) && l > 0.0)) {
+        *x = *y = *z = 0.0f;
+        return 1;
+    }
+    *x = (float)(v.x / l), *y = (float)(v.y / l), *z = (float)(v.z / l);
+    return 0;
+}
+
 size_t mesh_normalize_normals(size_t n, float *nx, float *ny, float *nz)
 {
     size_t none = 0;
     for (size_t i = 0; i < n; i++) {
         dvec v = {nx[i], ny[i], nz[i]};
-        double l = dv_len(v);
-        if (!(isfinite(l) && l > 0.0)) {
-            nx[i] = ny[i] = nz[i] = 0.0f;
-            none++;
-            continue;
-        }
-        nx[i] = (float)(v.x / l);
-        ny[i] = (float)(v.y / l);
-        nz[i] = (float)(v.z / l);
+        none += (size_t)store_unit(v, nx + i, ny + i, nz + i);
     }
     return none;
 }
@@ -93,17 +99,7 @@ size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz)
     size_t none = 0;
     for (size_t i = 0; i < nv; i++) {
         dvec v = {acc[3 * i], acc[3 * i + 1], acc[3 * i + 2]};
-        double l = dv_len(v);
-        if (!(isfinite(l) && l > 0.0)) {
-            /* No usable triangle (isolated, degenerate-only or NaN vertex), or
-             * contributions that cancel exactly: the surfgrad.h sentinel. */
-            nx[i] = ny[i] = nz[i] = 0.0f;
-            none++;
-            continue;
-        }
-        nx[i] = (float)(v.x / l);
-        ny[i] = (float)(v.y / l);
-        nz[i] = (float)(v.z / l);
+        none += (size_t)store_unit(v, nx + i, ny + i, nz + i);
     }
     free(acc);
     return none;
