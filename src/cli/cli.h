@@ -1,14 +1,19 @@
 /* SPDX-License-Identifier: MIT */
 /* Internal interface of the `bumpgrad` command: the subcommand table and the
- * helpers every subcommand shares (errors, argument parsing, safe output files,
- * progress, threads, height-function options). Implemented in util.c,
- * outfile.c, parallel.c, heightopt.c. */
+ * helpers every subcommand shares (errors, argument parsing, progress,
+ * height-function options). Implemented in util.c and heightopt.c; the work
+ * itself is done by the tools library (src/tools). */
 #ifndef BUMPGRAD_CLI_H
 #define BUMPGRAD_CLI_H
 
 #include <stddef.h>
 #include <stdio.h>
 #include "bumpgrad.h"
+#include "common/parallel.h"
+#include "common/safe_file.h"
+#include "common/tool.h"
+#include "height_source.h"
+#include "compat.h" /* TEMPORARY: see compat.h */
 
 /* Exit codes: 0 success, 1 runtime failure (I/O error, out of memory),
  * 2 bad input or usage (the message names the argument, file, line, column). */
@@ -51,23 +56,12 @@ const char *cli_method_name(bg_perturb_method m);
 /* Option value: argv[*i + 1], advancing *i; error if missing. */
 int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **out);
 
-/* ---- safe output: write to "<path>.tmp.XXXXXX" in the same folder, rename on
- * commit; abort (or a crash) never leaves a half-written file nor touches an
- * existing one. "-" means stdout (commit just flushes). ---- */
-typedef struct cli_outfile {
-    FILE *fp;
-    char *path;     /* final path */
-    char *tmp_path; /* temporary path, NULL for stdout */
-} cli_outfile;
-/* 0, CLI_FAIL, or CLI_USAGE for an empty path. */
-int cli_outfile_open(const char *cmd, const char *path, cli_outfile *out);
-int cli_outfile_commit(const char *cmd, cli_outfile *out);                   /* 0 or CLI_FAIL */
-void cli_outfile_abort(cli_outfile *out);
-/* For writers that need a path (OpenImageIO, OpenVDB, PLY): make a temporary
- * path next to `path` keeping its extension (…/.name.tmp123.png), and rename it
- * into place. Returns malloc'd string or NULL. */
-char *cli_temp_path_like(const char *path);
-int cli_rename_into_place(const char *cmd, const char *tmp_path, const char *path);
+/* ---- tools results: print the message of a failed tools call as
+ * "bumpgrad <cmd>: error: ..." and map its status to the exit code
+ * (BG_ERR_INVALID_ARGUMENT, BG_ERR_FORMAT, BG_ERR_NULL_POINTER,
+ * BG_ERR_UNSUPPORTED_ISA: bad input, 2; BG_ERR_IO, BG_ERR_OUT_OF_MEMORY: 1). ---- */
+int cli_exit_code(bg_status s);
+int cli_report(const char *cmd, bg_status s, const bgt_err *e);
 
 /* ---- progress on stderr, only when stderr is a terminal ---- */
 typedef struct cli_progress {
@@ -79,40 +73,16 @@ typedef struct cli_progress {
 void cli_progress_begin(cli_progress *p, const char *label, size_t total);
 void cli_progress_update(cli_progress *p, size_t done);
 void cli_progress_end(cli_progress *p);
-
-/* ---- threads: split [0, n) into chunks over `threads` workers (0 = all cores).
- * fn(ctx, begin, end, worker) is called for disjoint ranges. ---- */
-int cli_threads_default(void);
-void cli_parallel_for(size_t n, size_t chunk, int threads,
-                      void (*fn)(void *ctx, size_t begin, size_t end, int worker), void *ctx);
+/* A tools progress callback that drives `p` (begin/update/end). */
+bgt_progress cli_progress_sink(cli_progress *p);
 
 /* ---- height-function options shared by perturb, render, mesh, volume:
  * --function noise|fbm|turbulence --octaves N --lacunarity L --gain G
  * --amplitude A --frequency F --gradient analytic|central --step H
  * (and, with the tools, --height-grid FILE.vdb[:GRID]). ---- */
-typedef struct cli_height {
-    bg_height h;
-    const char *grid_path; /* non-NULL: a VDB FloatGrid is the height (tools only) */
-    const char *grid_name; /* NULL: the first FloatGrid of the file */
-    void *grid;            /* opened grid (bg_vdb_height *), set by cli_height_open */
-} cli_height;
-void cli_height_init(cli_height *h);
 /* If argv[*i] is a height option, consume it (and its value): returns 1; returns 0
  * if it is not one; CLI_USAGE (after printing) on a bad value. */
-int cli_height_option(const char *cmd, cli_height *h, int argc, char **argv, int *i);
+int cli_height_option(const char *cmd, bgt_height *h, int argc, char **argv, int *i);
 /* The --help lines for these options. */
 void cli_height_help(FILE *fp);
-/* Validate the options and open the VDB grid if one was given. 0, CLI_USAGE
- * (bad combination, grid given without tools) or CLI_FAIL (unreadable grid). */
-int cli_height_open(const char *cmd, cli_height *h);
-void cli_height_close(cli_height *h);
-/* Height and volume gradient at n points (SoA): the fractal kernels, or the grid
- * (gradient by a stencil on the grid). `height` may be NULL. */
-void cli_height_gradient(const cli_height *h, const float *px, const float *py, const float *pz,
-                         size_t n, float *height, float *gx, float *gy, float *gz);
-/* Height and perturbed normal (fused kernel, or grid gradient + bg_perturb_batch). */
-void cli_height_perturb(const cli_height *h, bg_perturb_method m, const float *px,
-                        const float *py, const float *pz, const float *nx, const float *ny,
-                        const float *nz, size_t n, float *height, float *ox, float *oy, float *oz);
-
 #endif

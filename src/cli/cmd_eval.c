@@ -5,16 +5,13 @@
  * at line 900000 leaves no partial output. Numbers are printed with enough
  * digits (9 for float, 17 for double) to read back to the same bits. */
 #include "cli.h"
-#include "csv.h"
+#include "points/points.h"
 #include <stdlib.h>
 #include <string.h>
 
 /* Rows per block: large enough that per-block costs (thread start, stdio calls)
  * vanish, small enough (~460 KB of columns in double) to stay in L2. */
-#define EVAL_BLOCK 8192
-#define EVAL_CHUNK 1024
 
-static const char *const eval_header[] = {"x", "y", "z"};
 
 static void eval_help(FILE *fp)
 {
@@ -62,42 +59,6 @@ static void eval_help(FILE *fp)
             "  bumpgrad eval --function turbulence --octaves 8 -i pts.csv -o out.csv\n"
             "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n",
             BG_MAX_OCTAVES, BG_DEFAULT_OCTAVES, (double)BG_DEFAULT_CENTRAL_STEP);
-}
-
-typedef struct eval_job {
-    const bg_fractal *f;
-    int central, dbl;
-    double step;
-    float *fc[7];
-    double *dc[7];
-} eval_job;
-
-static void eval_chunk(void *ctx, size_t b, size_t e, int worker)
-{
-    (void)worker;
-    eval_job *j = ctx;
-    size_t n = e - b;
-    if (j->dbl) {
-        double **c = j->dc;
-        if (j->central) {
-            for (size_t i = b; i < e; i++) {
-                bg_dvec3 g;
-                c[3][i] = bg_fractal3d_grad_central(j->f, j->step, c[0][i], c[1][i], c[2][i], &g);
-                c[4][i] = g.x, c[5][i] = g.y, c[6][i] = g.z;
-            }
-        } else {
-            bg_fractal3d_grad_batch(j->f, c[0] + b, c[1] + b, c[2] + b, n, c[3] + b, c[4] + b,
-                                    c[5] + b, c[6] + b);
-        }
-    } else {
-        float **c = j->fc;
-        if (j->central)
-            bg_fractal3_grad_central_batch(j->f, (float)j->step, c[0] + b, c[1] + b, c[2] + b, n,
-                                           c[3] + b, c[4] + b, c[5] + b, c[6] + b);
-        else
-            bg_fractal3_grad_batch(j->f, c[0] + b, c[1] + b, c[2] + b, n, c[3] + b, c[4] + b,
-                                   c[5] + b, c[6] + b);
-    }
 }
 
 int cmd_eval(int argc, char **argv)
@@ -188,72 +149,11 @@ int cmd_eval(int argc, char **argv)
     if (threads == 0)
         threads = cli_threads_default();
 
-    cli_csv in;
-    if ((rc = cli_csv_open(&in, cmd, in_path, allow_nonfinite)))
-        return rc;
-    if ((rc = cli_csv_header(&in, eval_header, 3))) {
-        cli_csv_close(&in);
-        return rc;
-    }
-
-    eval_job job = {.f = &f, .central = central, .dbl = dbl, .step = step};
-    size_t elem = dbl ? sizeof(double) : sizeof(float);
-    char *mem = malloc(7 * EVAL_BLOCK * elem);
-    if (!mem) {
-        cli_csv_close(&in);
-        return cli_fail(cmd, "out of memory");
-    }
-    for (int k = 0; k < 7; k++) {
-        job.fc[k] = (float *)(void *)(mem + (size_t)k * EVAL_BLOCK * elem);
-        job.dc[k] = (double *)(void *)(mem + (size_t)k * EVAL_BLOCK * elem);
-    }
-
-    cli_outfile out;
-    if ((rc = cli_outfile_open(cmd, out_path, &out))) {
-        free(mem);
-        cli_csv_close(&in);
-        return rc;
-    }
-    static char obuf[1 << 16];
-    setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    fputs("x,y,z,value,dx,dy,dz\n", out.fp);
-
     cli_progress prog;
-    cli_progress_begin(&prog, "eval", in.size);
-    for (;;) {
-        size_t rows;
-        rc = dbl ? cli_csv_read_double(&in, 3, job.dc, EVAL_BLOCK, &rows)
-                 : cli_csv_read_float(&in, 3, job.fc, EVAL_BLOCK, &rows);
-        if (rc || rows == 0)
-            break;
-        cli_parallel_for(rows, EVAL_CHUNK, threads, eval_chunk, &job);
-        if (dbl) {
-            double **c = job.dc;
-            for (size_t r = 0; r < rows; r++)
-                fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", c[0][r], c[1][r],
-                        c[2][r], c[3][r], c[4][r], c[5][r], c[6][r]);
-        } else {
-            float **c = job.fc;
-            for (size_t r = 0; r < rows; r++)
-                fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", (double)c[0][r],
-                        (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
-                        (double)c[5][r], (double)c[6][r]);
-        }
-        if (ferror(out.fp)) {
-            rc = cli_fail(cmd, "writing %s failed",
-                          strcmp(out_path, "-") ? out_path : "standard output");
-            break;
-        }
-        cli_progress_update(&prog, in.consumed);
-    }
-    cli_progress_end(&prog);
-    cli_csv_close(&in);
-    if (rc) {
-        cli_outfile_abort(&out);
-        free(mem);
-        return rc;
-    }
-    rc = cli_outfile_commit(cmd, &out);
-    free(mem);
-    return rc;
+    bgt_progress sink = cli_progress_sink(&prog);
+    bgt_eval_opts opts = {.input = in_path, .output = out_path, .fractal = f, .central = central,
+                          .dbl = dbl, .step = step, .threads = threads,
+                          .allow_nonfinite = allow_nonfinite, .progress = &sink};
+    bgt_err err;
+    return cli_report(cmd, bgt_eval_run(&opts, &err), &err);
 }

@@ -14,7 +14,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
-#include "cli_mesh.h"
+#include "mesh_tool.h"
 
 /* Vertices per parallel chunk: large enough that the per-chunk scratch and the
  * chunk bookkeeping are noise, small enough to balance two to 64 workers. */

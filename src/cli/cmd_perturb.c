@@ -5,15 +5,12 @@
  * The `inward` column makes the failure of the additive rule countable: it marks
  * rows whose bumped normal faces away from the surface normal. */
 #include "cli.h"
-#include "csv.h"
+#include "points/points.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define PERTURB_BLOCK 8192
-#define PERTURB_CHUNK 1024
 
-static const char *const perturb_header[] = {"x", "y", "z", "nx", "ny", "nz"};
 
 static void perturb_help(FILE *fp)
 {
@@ -52,29 +49,6 @@ static void perturb_help(FILE *fp)
                 "  bumpgrad perturb -i surface.csv -o bumped.csv\n"
                 "  bumpgrad perturb --method additive --amplitude 0.5 -i surface.csv -o add.csv\n"
                 "  printf 'x,y,z,nx,ny,nz\\n0.3,0.2,0.1,0,0,1\\n' | bumpgrad perturb -i - -o -\n");
-}
-
-typedef struct perturb_job {
-    const cli_height *h;
-    bg_perturb_method method;
-    float *c[10]; /* x y z nx ny nz height px py pz */
-} perturb_job;
-
-static void perturb_chunk(void *ctx, size_t b, size_t e, int worker)
-{
-    (void)worker;
-    perturb_job *j = ctx;
-    float **c = j->c;
-    cli_height_perturb(j->h, j->method, c[0] + b, c[1] + b, c[2] + b, c[3] + b, c[4] + b, c[5] + b,
-                       e - b, c[6] + b, c[7] + b, c[8] + b, c[9] + b);
-}
-
-/* dot(n', n) in double: n may be any finite length, and the sign is what counts. */
-static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
-{
-    double d = (double)nx * px + (double)ny * py + (double)nz * pz;
-    double r2 = (double)px * px + (double)py * py + (double)pz * pz;
-    return r2 == 0 || !(d > 0);
 }
 
 int cmd_perturb(int argc, char **argv)
@@ -126,66 +100,13 @@ int cmd_perturb(int argc, char **argv)
     if (threads == 0)
         threads = cli_threads_default();
 
-    cli_csv in;
-    if ((rc = cli_csv_open(&in, cmd, in_path, allow_nonfinite))) {
-        cli_height_close(&h);
-        return rc;
-    }
-    if ((rc = cli_csv_header(&in, perturb_header, 6))) {
-        cli_csv_close(&in);
-        cli_height_close(&h);
-        return rc;
-    }
-    perturb_job job = {.h = &h, .method = method};
-    float *mem = malloc(10 * PERTURB_BLOCK * sizeof(float));
-    if (!mem) {
-        cli_csv_close(&in);
-        cli_height_close(&h);
-        return cli_fail(cmd, "out of memory");
-    }
-    for (int k = 0; k < 10; k++)
-        job.c[k] = mem + (size_t)k * PERTURB_BLOCK;
-
-    cli_outfile out;
-    if ((rc = cli_outfile_open(cmd, out_path, &out))) {
-        free(mem);
-        cli_csv_close(&in);
-        cli_height_close(&h);
-        return rc;
-    }
-    static char obuf[1 << 16];
-    setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    fputs("x,y,z,nx,ny,nz,height,px,py,pz,inward\n", out.fp);
-
     cli_progress prog;
-    cli_progress_begin(&prog, "perturb", in.size);
-    for (;;) {
-        size_t rows;
-        rc = cli_csv_read_float(&in, 6, job.c, PERTURB_BLOCK, &rows);
-        if (rc || rows == 0)
-            break;
-        cli_parallel_for(rows, PERTURB_CHUNK, threads, perturb_chunk, &job);
-        float **c = job.c;
-        for (size_t r = 0; r < rows; r++)
-            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
-                    (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
-                    (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
-                    (double)c[8][r], (double)c[9][r],
-                    is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]));
-        if (ferror(out.fp)) {
-            rc = cli_fail(cmd, "writing %s failed",
-                          strcmp(out_path, "-") ? out_path : "standard output");
-            break;
-        }
-        cli_progress_update(&prog, in.consumed);
-    }
-    cli_progress_end(&prog);
-    cli_csv_close(&in);
-    cli_height_close(&h);
-    free(mem);
-    if (rc) {
-        cli_outfile_abort(&out);
-        return rc;
-    }
-    return cli_outfile_commit(cmd, &out);
+    bgt_progress sink = cli_progress_sink(&prog);
+    bgt_perturb_opts opts = {.input = in_path, .output = out_path, .height = &h, .method = method,
+                             .threads = threads, .allow_nonfinite = allow_nonfinite,
+                             .progress = &sink};
+    bgt_err err;
+    rc = cli_report(cmd, bgt_perturb_run(&opts, &err), &err);
+    bgt_height_close(&h);
+    return rc;
 }

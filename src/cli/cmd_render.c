@@ -14,6 +14,7 @@
 #include <strings.h>
 #include <unistd.h>
 #include "bumpgrad/image.h"
+#include "cli.h"
 #include "render.h"
 
 static const char *const CMD = "render";
@@ -459,7 +460,7 @@ static void fill_job(const render_opts *o, const render_scene *scene, render_job
     job->nmethods = o->nmethods;
     memcpy(job->methods, o->methods, sizeof o->methods);
     job->threads = o->threads;
-    job->progress = 1;
+    job->progress = NULL; /* TEMPORARY */
 }
 
 /* Section 6: Listing 1 "depends on the pixel density across the surface

@@ -203,3 +203,43 @@ const char *cli_method_name(bg_perturb_method m)
 {
     return (unsigned)m < 3 ? method_names[m] : "?";
 }
+
+/* ---- tools results ------------------------------------------------------- */
+
+int cli_exit_code(bg_status s)
+{
+    switch (s) {
+    case BG_OK:
+        return CLI_OK;
+    case BG_ERR_IO:
+    case BG_ERR_OUT_OF_MEMORY:
+        return CLI_FAIL;
+    default:
+        return CLI_USAGE;
+    }
+}
+
+int cli_report(const char *cmd, bg_status s, const bgt_err *e)
+{
+    if (s == BG_OK)
+        return CLI_OK;
+    const char *msg = e && e->msg[0] ? e->msg : bg_status_string(s);
+    if (cmd && *cmd)
+        fprintf(stderr, "bumpgrad %s: error: %s\n", cmd, msg);
+    else
+        fprintf(stderr, "bumpgrad: error: %s\n", msg);
+    return cli_exit_code(s);
+}
+
+static void sink_begin(void *ctx, const char *label, size_t total)
+{
+    cli_progress_begin(ctx, label, total);
+}
+static void sink_update(void *ctx, size_t done) { cli_progress_update(ctx, done); }
+static void sink_end(void *ctx) { cli_progress_end(ctx); }
+
+bgt_progress cli_progress_sink(cli_progress *p)
+{
+    bgt_progress s = {sink_begin, sink_update, sink_end, p};
+    return s;
+}

@@ -5,7 +5,6 @@
  * an error naming the line and column rather than a silently skipped row. */
 #define _POSIX_C_SOURCE 200809L
 #include "csv.h"
-#include "cli.h"
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -37,17 +36,17 @@ static const char *quote(const char *s, size_t n, char *out, size_t cap)
     return out;
 }
 
-static int row_error(const cli_csv *c, size_t col, const char *fmt, const char *arg)
+static bg_status row_error(const bgt_csv *c, size_t col, const char *fmt, const char *arg)
 {
     char msg[256];
     snprintf(msg, sizeof msg, fmt, arg);
-    return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, col, msg);
+    return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, col, msg);
 }
 
-int cli_csv_open(cli_csv *c, const char *cmd, const char *path, int allow_nonfinite)
+bg_status bgt_csv_open(bgt_csv *c, bgt_err *err, const char *path, int allow_nonfinite)
 {
     memset(c, 0, sizeof *c);
-    c->cmd = cmd;
+    c->err = err;
     c->allow_nonfinite = allow_nonfinite;
     if (strcmp(path, "-") == 0) {
         c->name = "<stdin>";
@@ -56,27 +55,27 @@ int cli_csv_open(cli_csv *c, const char *cmd, const char *path, int allow_nonfin
         c->name = path;
         c->fp = fopen(path, "rb");
         if (!c->fp)
-            return cli_usage_error(cmd, "cannot open input %s: %s", path, strerror(errno));
+            return bgt_fail(err, BG_ERR_INVALID_ARGUMENT, "cannot open input %s: %s", path, strerror(errno));
         struct stat st;
         if (fstat(fileno(c->fp), &st) == 0) {
             if (S_ISDIR(st.st_mode)) {
                 fclose(c->fp);
                 c->fp = NULL;
-                return cli_usage_error(cmd, "cannot read input %s: is a directory", path);
+                return bgt_fail(err, BG_ERR_INVALID_ARGUMENT, "cannot read input %s: is a directory", path);
             }
             if (S_ISREG(st.st_mode))
                 c->size = (size_t)st.st_size;
         }
     }
-    c->buf = malloc(CLI_CSV_MAX_LINE + 1);
+    c->buf = malloc(BGT_CSV_MAX_LINE + 1);
     if (!c->buf) {
-        cli_csv_close(c);
-        return cli_fail(cmd, "out of memory");
+        bgt_csv_close(c);
+        return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
     return 0;
 }
 
-void cli_csv_close(cli_csv *c)
+void bgt_csv_close(bgt_csv *c)
 {
     if (c->fp && c->fp != stdin)
         fclose(c->fp);
@@ -86,8 +85,8 @@ void cli_csv_close(cli_csv *c)
 }
 
 /* Next line without its "\n" or "\r\n", NUL-terminated in place. 1: a line,
- * 0: end of input, or CLI_USAGE/CLI_FAIL negated. */
-static int next_line(cli_csv *c, char **line, size_t *len)
+ * 0: end of input, or a bg_status negated. */
+static int next_line(bgt_csv *c, char **line, size_t *len)
 {
     for (;;) {
         char *p = c->buf + c->start;
@@ -98,7 +97,7 @@ static int next_line(cli_csv *c, char **line, size_t *len)
             c->line++;
             if (n > 0 && p[n - 1] == '\r')
                 n--;
-            p[n] = '\0'; /* buf has one spare byte past CLI_CSV_MAX_LINE */
+            p[n] = '\0'; /* buf has one spare byte past BGT_CSV_MAX_LINE */
             *line = p;
             *len = n;
             return 1;
@@ -110,19 +109,19 @@ static int next_line(cli_csv *c, char **line, size_t *len)
             c->end -= c->start;
             c->start = 0;
         }
-        if (c->end == CLI_CSV_MAX_LINE) {
+        if (c->end == BGT_CSV_MAX_LINE) {
             c->line++;
-            cli_usage_error(c->cmd, "%s:%lu:1: line longer than %u bytes", c->name, c->line,
-                            (unsigned)CLI_CSV_MAX_LINE);
-            return -CLI_USAGE;
+            bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:1: line longer than %u bytes", c->name, c->line,
+                            (unsigned)BGT_CSV_MAX_LINE);
+            return -(int)BG_ERR_FORMAT;
         }
-        size_t r = fread(c->buf + c->end, 1, CLI_CSV_MAX_LINE - c->end, c->fp);
+        size_t r = fread(c->buf + c->end, 1, BGT_CSV_MAX_LINE - c->end, c->fp);
         c->end += r;
         c->consumed += r;
         if (r == 0) {
             if (ferror(c->fp)) {
-                cli_fail(c->cmd, "reading %s failed: %s", c->name, strerror(errno));
-                return -CLI_FAIL;
+                bgt_fail(c->err, BG_ERR_IO, "reading %s failed: %s", c->name, strerror(errno));
+                return -(int)BG_ERR_IO;
             }
             c->eof = 1;
         }
@@ -137,7 +136,7 @@ static int line_is_blank(const char *s, size_t n)
     return 1;
 }
 
-int cli_csv_header(cli_csv *c, const char *const *names, int count)
+bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
 {
     char *s;
     size_t n;
@@ -149,7 +148,7 @@ int cli_csv_header(cli_csv *c, const char *const *names, int count)
     }
     int r = next_line(c, &s, &n);
     if (r < 0)
-        return -r;
+        return (bg_status)-r;
     if (r == 0) {
         c->line = 1;
         return row_error(c, 1, "empty input, expected the header \"%s\"", want);
@@ -177,7 +176,7 @@ int cli_csv_header(cli_csv *c, const char *const *names, int count)
             char msg[256];
             snprintf(msg, sizeof msg, "expected the header \"%s\", got \"%s\"", want,
                      quote(s, n, got, sizeof got));
-            return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, b + 1, msg);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, b + 1, msg);
         }
         pos++; /* the comma */
     }
@@ -185,7 +184,7 @@ int cli_csv_header(cli_csv *c, const char *const *names, int count)
 }
 
 /* Split and parse one row; `dbl` picks strtod into dcols, else strtof into fcols. */
-static int parse_row(cli_csv *c, char *s, size_t n, int count, int dbl, float *const *fcols,
+static bg_status parse_row(bgt_csv *c, char *s, size_t n, int count, int dbl, float *const *fcols,
                      double *const *dcols, size_t row)
 {
     char tmp[64];
@@ -198,7 +197,7 @@ static int parse_row(cli_csv *c, char *s, size_t n, int count, int dbl, float *c
         if (e == n && k + 1 < count) {
             char msg[96];
             snprintf(msg, sizeof msg, "expected %d fields, got %d", count, k + 1);
-            return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
         }
         if (k + 1 == count && e < n) {
             int extra = 1;
@@ -206,7 +205,7 @@ static int parse_row(cli_csv *c, char *s, size_t n, int count, int dbl, float *c
                 extra += s[i] == ',';
             char msg[96];
             snprintf(msg, sizeof msg, "expected %d fields, got %d", count, count + extra);
-            return cli_usage_error(c->cmd, "%s:%lu:%zu: %s", c->name, c->line, e + 2, msg);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, e + 2, msg);
         }
         size_t vb = b;
         while (vb < e && is_blank_char(s[vb]))
@@ -258,7 +257,7 @@ static int parse_row(cli_csv *c, char *s, size_t n, int count, int dbl, float *c
     return 0;
 }
 
-static int read_rows(cli_csv *c, int count, int dbl, float *const *fcols, double *const *dcols,
+static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, double *const *dcols,
                      size_t max, size_t *rows)
 {
     size_t got = 0;
@@ -267,7 +266,7 @@ static int read_rows(cli_csv *c, int count, int dbl, float *const *fcols, double
         size_t n;
         int r = next_line(c, &s, &n);
         if (r < 0)
-            return -r;
+            return (bg_status)-r;
         if (r == 0)
             break;
         if (line_is_blank(s, n)) {
@@ -281,7 +280,7 @@ static int read_rows(cli_csv *c, int count, int dbl, float *const *fcols, double
             c->line = c->blank;
             return row_error(c, 1, "blank line inside the data%s", "");
         }
-        int e = parse_row(c, s, n, count, dbl, fcols, dcols, got);
+        bg_status e = parse_row(c, s, n, count, dbl, fcols, dcols, got);
         if (e)
             return e;
         got++;
@@ -290,12 +289,12 @@ static int read_rows(cli_csv *c, int count, int dbl, float *const *fcols, double
     return 0;
 }
 
-int cli_csv_read_float(cli_csv *c, int count, float *const *cols, size_t max, size_t *rows)
+bg_status bgt_csv_read_float(bgt_csv *c, int count, float *const *cols, size_t max, size_t *rows)
 {
     return read_rows(c, count, 0, cols, NULL, max, rows);
 }
 
-int cli_csv_read_double(cli_csv *c, int count, double *const *cols, size_t max, size_t *rows)
+bg_status bgt_csv_read_double(bgt_csv *c, int count, double *const *cols, size_t max, size_t *rows)
 {
     return read_rows(c, count, 1, NULL, cols, max, rows);
 }

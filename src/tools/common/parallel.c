@@ -5,13 +5,13 @@
  * point is computed by the same kernel whichever worker runs it, so results do
  * not depend on the thread count. */
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
+#include "parallel.h"
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <unistd.h>
 
-int cli_threads_default(void)
+int bgt_threads_default(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);
     if (n < 1)
@@ -49,7 +49,7 @@ static void *worker_main(void *p)
     return NULL;
 }
 
-void cli_parallel_for(size_t n, size_t chunk, int threads,
+void bgt_parallel_for(size_t n, size_t chunk, int threads,
                       void (*fn)(void *ctx, size_t begin, size_t end, int worker), void *ctx)
 {
     if (n == 0)
@@ -57,7 +57,7 @@ void cli_parallel_for(size_t n, size_t chunk, int threads,
     if (chunk == 0)
         chunk = 1;
     if (threads <= 0)
-        threads = cli_threads_default();
+        threads = bgt_threads_default();
     size_t nchunks = (n + chunk - 1) / chunk;
     if ((size_t)threads > nchunks)
         threads = (int)nchunks;

@@ -11,13 +11,14 @@
  *
  * Heights are solid: h(p) = amplitude * F(frequency * p) at the hit point,
  * no texture coordinates (section 3). Every height and gradient goes through
- * the library's batch calls (via cli_height_perturb / cli_height_gradient),
+ * the library's batch calls (via bgt_height_perturb / bgt_height_gradient),
  * one batch per tile. */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include "render.h"
+#include "common/parallel.h"
 
 #define TILE 8 /* output pixels per tile side */
 
@@ -220,8 +221,7 @@ typedef struct run_ctx {
     int need_quads;
     atomic_int failed;
     atomic_size_t done;
-    cli_progress progress;
-    cli_height analytic, central;
+    bgt_height analytic, central;
 } run_ctx;
 
 static int trace(const render_scene *s, const float d[3], float p[3], float n[3], float nf[3],
@@ -299,7 +299,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1], T->bnz[nb] = T->n[k * 3 + 2];
             T->bidx[nb++] = (int)k;
         }
-    cli_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
+    bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
                        T->bnz, nb, T->bh, T->box, T->boy, T->boz);
     for (size_t b = 0; b < nb; b++) {
         size_t k = (size_t)T->bidx[b];
@@ -362,7 +362,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             }
         }
         /* Helper-lane heights, one batch (gradients unused: scratch). */
-        cli_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
+        bgt_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
         for (size_t b = 0; b < nh; b++)
             T->qh[T->bidx[b]] = T->bh[b];
     }
@@ -406,7 +406,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                     T->bnz[nb] = T->n[k * 3 + 2];
                     T->bidx[nb++] = (int)k;
                 }
-            cli_height_perturb(M == RENDER_SURFGRAD_CENTRAL ? &C->central : &C->analytic,
+            bgt_height_perturb(M == RENDER_SURFGRAD_CENTRAL ? &C->central : &C->analytic,
                                M == RENDER_ADDITIVE ? BG_PERTURB_ADDITIVE : BG_PERTURB_SURFGRAD,
                                T->bx, T->by, T->bz, T->bnx, T->bny, T->bnz, nb, T->bh, T->box,
                                T->boy, T->boz);
@@ -511,8 +511,8 @@ static void tile_worker(void *ctx, size_t begin, size_t end, int worker)
     for (size_t t = begin; t < end && !atomic_load(&C->failed); t++) {
         tile_render(C, &T, (int)(t % (size_t)C->tiles_x), (int)(t / (size_t)C->tiles_x));
         size_t done = atomic_fetch_add(&C->done, 1) + 1;
-        if (worker == 0 && C->job->progress)
-            cli_progress_update(&C->progress, done);
+        if (worker == 0)
+            bgt_progress_update(C->job->progress, done);
     }
     tile_free(&T);
 }
@@ -529,7 +529,7 @@ void render_job_free(render_job *job)
     }
 }
 
-int render_run(render_job *job)
+bg_status render_run(render_job *job)
 {
     size_t npx = (size_t)job->width * job->height_px;
     job->nsamples = npx * (size_t)job->ss * job->ss;
@@ -540,7 +540,7 @@ int render_run(render_job *job)
         job->inward[i] = malloc(job->nsamples);
         if (!job->rgb[i] || !job->heat[i] || !job->err[i] || !job->inward[i]) {
             render_job_free(job);
-            return CLI_FAIL;
+            return BG_ERR_OUT_OF_MEMORY;
         }
     }
     run_ctx C;
@@ -561,14 +561,12 @@ int render_run(render_job *job)
     atomic_init(&C.failed, 0);
     atomic_init(&C.done, 0);
     size_t ntiles = (size_t)C.tiles_x * C.tiles_y;
-    if (job->progress)
-        cli_progress_begin(&C.progress, "render", ntiles);
-    cli_parallel_for(ntiles, 1, job->threads, tile_worker, &C);
-    if (job->progress)
-        cli_progress_end(&C.progress);
+    bgt_progress_begin(job->progress, "render", ntiles);
+    bgt_parallel_for(ntiles, 1, job->threads, tile_worker, &C);
+    bgt_progress_end(job->progress);
     if (atomic_load(&C.failed)) {
         render_job_free(job);
-        return CLI_FAIL;
+        return BG_ERR_OUT_OF_MEMORY;
     }
     return 0;
 }
@@ -579,12 +577,12 @@ static int cmp_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-int render_stats_compute(const render_job *job, int k, render_stats *out)
+bg_status render_stats_compute(const render_job *job, int k, render_stats *out)
 {
     memset(out, 0, sizeof *out);
     float *v = malloc((job->nsamples ? job->nsamples : 1) * sizeof *v);
     if (!v)
-        return CLI_FAIL;
+        return BG_ERR_OUT_OF_MEMORY;
     size_t n = 0, inward = 0;
     double sum = 0;
     for (size_t i = 0; i < job->nsamples; i++) {

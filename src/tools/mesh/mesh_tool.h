@@ -2,8 +2,8 @@
 /* Internal interface of `bumpgrad mesh` (cmd_mesh.c): mesh-level vertex
  * normals and tangents (mesh_frames.c), the PLY writer (mesh_ply.c) and the
  * UV-space normal-map baker (mesh_bake.c). Tools build only. */
-#ifndef BUMPGRAD_CLI_MESH_H
-#define BUMPGRAD_CLI_MESH_H
+#ifndef BUMPGRAD_TOOLS_MESH_TOOL_H
+#define BUMPGRAD_TOOLS_MESH_TOOL_H
 
 #include <stddef.h>
 #include <stdint.h>

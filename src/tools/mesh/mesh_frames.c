@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "cli_mesh.h"
+#include "mesh_tool.h"
 
 typedef struct dvec {
     double x, y, z;

@@ -218,14 +218,14 @@ static void bvh_node(bvh_build *B, int node, int first, int count)
     bvh_node(B, left + 1, first + half, count - half);
 }
 
-int render_mesh_build(render_shape shape, int grid, render_mesh *m)
+bg_status render_mesh_build(render_shape shape, int grid, render_mesh *m)
 {
     memset(m, 0, sizeof *m);
     const double B = shape == RENDER_TORUS ? 1.35 : 1.3;
     int N = grid, S = grid + 1;
     double *f = malloc((size_t)S * S * S * sizeof *f);
     if (!f)
-        return CLI_FAIL;
+        return BG_ERR_OUT_OF_MEMORY;
     for (int k = 0; k < S; k++)
         for (int j = 0; j < S; j++)
             for (int i = 0; i < S; i++) {
@@ -262,7 +262,7 @@ int render_mesh_build(render_shape shape, int grid, render_mesh *m)
     if (b.failed || b.n == 0) {
         free(b.pos);
         free(b.nrm);
-        return CLI_FAIL;
+        return BG_ERR_OUT_OF_MEMORY;
     }
     size_t n = b.n;
     float *cen = malloc(n * 3 * sizeof *cen);
@@ -277,7 +277,7 @@ int render_mesh_build(render_shape shape, int grid, render_mesh *m)
         free(b.pos);
         free(b.nrm);
         render_mesh_free(m);
-        return CLI_FAIL;
+        return BG_ERR_OUT_OF_MEMORY;
     }
     for (size_t t = 0; t < n; t++) {
         idx[t] = (int)t;

@@ -74,12 +74,12 @@ static const glyph *find_glyph(char c)
     return NULL;
 }
 
-int render_canvas_alloc(render_canvas *c, int w, int h, const float bg[3])
+bg_status render_canvas_alloc(render_canvas *c, int w, int h, const float bg[3])
 {
     c->w = w, c->h = h;
     c->rgb = malloc((size_t)w * h * 3 * sizeof(float));
     if (!c->rgb)
-        return CLI_FAIL;
+        return BG_ERR_OUT_OF_MEMORY;
     for (size_t i = 0; i < (size_t)w * h; i++)
         memcpy(c->rgb + i * 3, bg, 3 * sizeof(float));
     return 0;

@@ -6,11 +6,12 @@
  * Files: render_mesh.c (marching tetrahedra + BVH), render_core.c (camera,
  * ray casting, per-tile G-buffer, methods, shading), render_panel.c (bitmap
  * font, heat map, panels), cmd_render.c (options, presets, statistics). */
-#ifndef BUMPGRAD_CLI_RENDER_H
-#define BUMPGRAD_CLI_RENDER_H
+#ifndef BUMPGRAD_TOOLS_RENDER_H
+#define BUMPGRAD_TOOLS_RENDER_H
 
 #include <stddef.h>
-#include "cli.h"
+#include "common/tool.h"
+#include "height_source.h"
 
 /* Normal-perturbation methods of --method / --compare. */
 typedef enum render_method {
@@ -52,8 +53,8 @@ typedef struct render_mesh {
 
 /* Marching tetrahedra of the implicit `shape` (blob or torus) on a grid of
  * `grid` cells per axis; vertex normals from the analytic field gradient.
- * 0 or CLI_FAIL (out of memory). */
-int render_mesh_build(render_shape shape, int grid, render_mesh *m);
+ * 0 or BG_ERR_OUT_OF_MEMORY. */
+bg_status render_mesh_build(render_shape shape, int grid, render_mesh *m);
 void render_mesh_free(render_mesh *m);
 
 typedef struct render_hit {
@@ -82,13 +83,13 @@ void render_scene_camera(render_scene *s, float distance, float zoom);
 
 typedef struct render_job {
     const render_scene *scene;
-    const cli_height *height;
+    const bgt_height *height;
     int width, height_px; /* output pixels */
     int ss;               /* samples per axis per pixel: spp = ss * ss */
     int nmethods;
     render_method methods[RENDER_MAX_METHODS];
     int threads;
-    int progress; /* show progress on a terminal */
+    const bgt_progress *progress; /* may be NULL */
     /* outputs, allocated by render_run, freed by render_job_free: */
     float *rgb[RENDER_MAX_METHODS];   /* width*height_px*3 linear RGB per method */
     float *heat[RENDER_MAX_METHODS];  /* width*height_px mean angle error (deg), NaN for no hit */
@@ -97,8 +98,8 @@ typedef struct render_job {
     size_t nsamples;                  /* width*ss * height_px*ss */
 } render_job;
 
-/* Render all methods of the job. 0 or CLI_FAIL (out of memory). */
-int render_run(render_job *job);
+/* Render all methods of the job. 0 or BG_ERR_OUT_OF_MEMORY. */
+bg_status render_run(render_job *job);
 void render_job_free(render_job *job);
 
 /* Summary of one method against analytic surfgrad, over the samples that hit. */
@@ -107,7 +108,7 @@ typedef struct render_stats {
     double mean_deg, p99_deg, max_deg;
     double inward_fraction;
 } render_stats;
-int render_stats_compute(const render_job *job, int k, render_stats *out); /* 0 or CLI_FAIL */
+bg_status render_stats_compute(const render_job *job, int k, render_stats *out); /* BG_OK or BG_ERR_OUT_OF_MEMORY */
 
 /* ---- Listing 1 on one 2x2 quad (render_core.c; exposed for the unit test) ----
  * pos[lane][3], h[lane] for lanes 0 (x0,y0), 1 (x1,y0), 2 (x0,y1), 3 (x1,y1);
@@ -121,7 +122,7 @@ typedef struct render_canvas {
     int w, h;
     float *rgb; /* linear RGB */
 } render_canvas;
-int render_canvas_alloc(render_canvas *c, int w, int h, const float bg[3]);
+bg_status render_canvas_alloc(render_canvas *c, int w, int h, const float bg[3]);
 void render_canvas_free(render_canvas *c);
 /* Copy a w x h RGB image to (x, y), magnified by an integer factor (nearest). */
 void render_canvas_blit(render_canvas *c, int x, int y, const float *rgb, int w, int h, int scale);

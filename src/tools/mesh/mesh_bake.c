@@ -19,7 +19,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include "cli_mesh.h"
+#include "mesh_tool.h"
 
 typedef struct bake_ctx {
     const bg_mesh *m;

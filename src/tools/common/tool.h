@@ -1,0 +1,58 @@
+/* SPDX-License-Identifier: MIT */
+/* What every tools-library call shares: a status, an error buffer and a
+ * progress callback. The tools (src/tools) never print, never read argv and
+ * never exit: they return a bg_status and, on failure, leave one line of text
+ * in a bgt_err that the caller (the CLI, a test, a user's program) shows as it
+ * likes. Exit codes are the CLI's business (bgt_exit_code in src/cli). */
+#ifndef BUMPGRAD_TOOLS_TOOL_H
+#define BUMPGRAD_TOOLS_TOOL_H
+
+#include <stddef.h>
+#include "bumpgrad/common.h"
+
+#if defined(__GNUC__) || defined(__clang__)
+#define BGT_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define BGT_PRINTF(f, a)
+#endif
+
+/* One error: the status and a message (no "bumpgrad cmd: error:" prefix). */
+typedef struct bgt_err {
+    bg_status status;
+    char msg[1024];
+} bgt_err;
+
+/* Set *e (if e is non-NULL) and return s, for `return bgt_fail(e, ...)`.
+ * The message replaces any earlier one. */
+bg_status bgt_fail(bgt_err *e, bg_status s, const char *fmt, ...) BGT_PRINTF(3, 4);
+/* Prefix the message already in *e with "prefix: " (context on the way up). */
+void bgt_err_prefix(bgt_err *e, const char *prefix);
+void bgt_err_clear(bgt_err *e);
+
+/* Progress of a long job: begin(label, total) once, update(done) from any
+ * worker (the callback is responsible for its own rate limiting and locking),
+ * end() once. Any member may be NULL, and so may the whole pointer. */
+typedef struct bgt_progress {
+    void (*begin)(void *ctx, const char *label, size_t total);
+    void (*update)(void *ctx, size_t done);
+    void (*end)(void *ctx);
+    void *ctx;
+} bgt_progress;
+
+static inline void bgt_progress_begin(const bgt_progress *p, const char *label, size_t total)
+{
+    if (p && p->begin)
+        p->begin(p->ctx, label, total);
+}
+static inline void bgt_progress_update(const bgt_progress *p, size_t done)
+{
+    if (p && p->update)
+        p->update(p->ctx, done);
+}
+static inline void bgt_progress_end(const bgt_progress *p)
+{
+    if (p && p->end)
+        p->end(p->ctx);
+}
+
+#endif

@@ -1,0 +1,100 @@
+/* SPDX-License-Identifier: MIT */
+/* bgt_perturb_run (points.h): bump the normals of a CSV table of surface
+ * points with the height source, through the library's fused height -> normal
+ * kernel (Mikkelsen 2010, eq. 2 and 4) or Perlin's additive rule. The `inward`
+ * column marks rows whose bumped normal faces away from the surface normal. */
+#include "points.h"
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include "common/csv.h"
+#include "common/parallel.h"
+#include "common/safe_file.h"
+
+#define PERTURB_BLOCK 8192
+#define PERTURB_CHUNK 1024
+
+static const char *const perturb_header[] = {"x", "y", "z", "nx", "ny", "nz"};
+
+typedef struct perturb_job {
+    const bgt_height *h;
+    bg_perturb_method method;
+    float *c[10]; /* x y z nx ny nz height px py pz */
+} perturb_job;
+
+static void perturb_chunk(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    perturb_job *j = ctx;
+    float **c = j->c;
+    bgt_height_perturb(j->h, j->method, c[0] + b, c[1] + b, c[2] + b, c[3] + b, c[4] + b, c[5] + b,
+                       e - b, c[6] + b, c[7] + b, c[8] + b, c[9] + b);
+}
+
+/* dot(n', n) in double: n may be any finite length, and the sign is what counts. */
+static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
+{
+    double d = (double)nx * px + (double)ny * py + (double)nz * pz;
+    double r2 = (double)px * px + (double)py * py + (double)pz * pz;
+    return r2 == 0 || !(d > 0);
+}
+
+bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
+{
+    bgt_csv in;
+    bg_status rc;
+    if ((rc = bgt_csv_open(&in, e, o->input, o->allow_nonfinite)))
+        return rc;
+    if ((rc = bgt_csv_header(&in, perturb_header, 6))) {
+        bgt_csv_close(&in);
+        return rc;
+    }
+    perturb_job job = {.h = o->height, .method = o->method};
+    float *mem = malloc(10 * PERTURB_BLOCK * sizeof(float));
+    if (!mem) {
+        bgt_csv_close(&in);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    for (int k = 0; k < 10; k++)
+        job.c[k] = mem + (size_t)k * PERTURB_BLOCK;
+
+    bgt_safe_file out;
+    if ((rc = bgt_safe_open(&out, o->output, e))) {
+        free(mem);
+        bgt_csv_close(&in);
+        return rc;
+    }
+    static char obuf[1 << 16];
+    setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
+    fputs("x,y,z,nx,ny,nz,height,px,py,pz,inward\n", out.fp);
+
+    bgt_progress_begin(o->progress, "perturb", in.size);
+    for (;;) {
+        size_t rows;
+        rc = bgt_csv_read_float(&in, 6, job.c, PERTURB_BLOCK, &rows);
+        if (rc || rows == 0)
+            break;
+        bgt_parallel_for(rows, PERTURB_CHUNK, o->threads, perturb_chunk, &job);
+        float **c = job.c;
+        for (size_t r = 0; r < rows; r++)
+            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
+                    (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
+                    (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
+                    (double)c[8][r], (double)c[9][r],
+                    is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]));
+        if (ferror(out.fp)) {
+            rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
+                          strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
+            break;
+        }
+        bgt_progress_update(o->progress, in.consumed);
+    }
+    bgt_progress_end(o->progress);
+    bgt_csv_close(&in);
+    free(mem);
+    if (rc) {
+        bgt_safe_abort(&out);
+        return rc;
+    }
+    return bgt_safe_commit(&out, e);
+}

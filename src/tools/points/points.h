@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: MIT */
+/* The point tables of `bumpgrad eval` and `perturb`: stream a CSV table of
+ * points through the library in constant memory and write a CSV table of
+ * results, through the safe file writer. */
+#ifndef BUMPGRAD_TOOLS_POINTS_H
+#define BUMPGRAD_TOOLS_POINTS_H
+
+#include "bumpgrad.h"
+#include "common/tool.h"
+#include "height_source.h"
+
+typedef struct bgt_eval_opts {
+    const char *input, *output; /* "-": standard input / output */
+    bg_fractal fractal;
+    int central;   /* central differences (step) instead of the analytic gradient */
+    int dbl;       /* double precision entry points */
+    double step;   /* central step, > 0 */
+    int threads;   /* 0: all cores */
+    int allow_nonfinite;
+    const bgt_progress *progress;
+} bgt_eval_opts;
+
+/* Columns x,y,z in; x,y,z,value,dx,dy,dz out (%.9g float, %.17g double: both
+ * round-trip exactly). Errors name FILE:LINE:COLUMN. */
+bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e);
+
+typedef struct bgt_perturb_opts {
+    const char *input, *output;
+    const bgt_height *height; /* opened (bgt_height_open) */
+    bg_perturb_method method;
+    int threads;
+    int allow_nonfinite;
+    const bgt_progress *progress;
+} bgt_perturb_opts;
+
+/* Columns x,y,z,nx,ny,nz in; x,y,z,nx,ny,nz,height,px,py,pz,inward out. */
+bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e);
+
+#endif
