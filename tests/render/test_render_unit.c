@@ -12,7 +12,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include "render.h"
+#include "render/render.h"
 
 static int failures;
 #define CHECK(c, ...)                                     \

@@ -110,6 +110,56 @@ typedef struct render_stats {
 } render_stats;
 bg_status render_stats_compute(const render_job *job, int k, render_stats *out); /* BG_OK or BG_ERR_OUT_OF_MEMORY */
 
+/* The presets of --preset: the paper's figures (docs/FIGURES.md). */
+typedef enum render_preset { PRESET_NONE = 0, PRESET_FIG1, PRESET_FIG2, PRESET_FIG3 } render_preset;
+
+typedef struct render_opts {
+    render_shape shape;
+    int grid;
+    int width, height, ss;
+    float distance, zoom, heat_max;
+    float light[3];
+    int threads;
+    int nmethods, compare;
+    render_method methods[RENDER_MAX_METHODS];
+    int closeup; /* magnification of the close-up row, 0 = none */
+    int sweep;   /* print the error against pixel density */
+    const char *output;
+    render_preset preset;
+    bgt_height h;
+    const bgt_progress *progress; /* may be NULL */
+} render_opts;
+
+/* The defaults of `bumpgrad render` (sphere, 384x384, surfgrad, ...). */
+void render_opts_default(render_opts *o);
+/* Set the scene, height and methods of a preset (o->preset); options set
+ * afterwards override it. */
+void render_apply_preset(render_opts *o);
+
+/* What a render reports, printed by the CLI. */
+#define RENDER_MAX_SWEEP 5
+typedef struct render_sweep_row {
+    render_method method;
+    double density;
+    int width, height, spp;
+    render_stats st;
+} render_sweep_row;
+typedef struct render_result {
+    size_t triangles; /* of the isosurface, 0 for the sphere */
+    int nmethods;
+    render_method methods[RENDER_MAX_METHODS];
+    render_stats stats[RENDER_MAX_METHODS];
+    int out_width, out_height; /* of the written image */
+    int nsweep;
+    render_sweep_row sweep[RENDER_MAX_SWEEP * RENDER_MAX_METHODS];
+} render_result;
+
+/* Check the output (extension, writable folder) first, then render the job
+ * of `o` (with its height already opened by bgt_height_open), compose the
+ * panel when o->compare, write o->output through bg_image_write (temporary +
+ * rename), and run the density sweep when o->sweep. */
+bg_status render_image(const render_opts *o, render_result *r, bgt_err *e);
+
 /* ---- Listing 1 on one 2x2 quad (render_core.c; exposed for the unit test) ----
  * pos[lane][3], h[lane] for lanes 0 (x0,y0), 1 (x1,y0), 2 (x0,y1), 3 (x1,y1);
  * `lane` is the pixel whose normal is wanted, n its unit normal. fine != 0:

@@ -17,7 +17,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include "render.h"
+#include "render/render.h"
 #include "common/parallel.h"
 
 #define TILE 8 /* output pixels per tile side */

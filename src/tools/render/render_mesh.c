@@ -9,7 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "render.h"
+#include "render/render.h"
 
 /* Implicit fields: negative inside, positive outside, so grad F points out. */
 static double field_blob(const double p[3])

@@ -5,7 +5,7 @@
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
-#include "render.h"
+#include "render/render.h"
 
 /* Each glyph: 7 rows of 5 columns, '#' set. */
 typedef struct glyph {
