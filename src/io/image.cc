@@ -195,7 +195,7 @@ static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type
         out.reset(); // closes the temporary file before it is removed
         bg_io_set_error(err, errlen, "cannot write '%s' (%s)", path,
                         msg.empty() ? "write failed" : msg.c_str());
-        std::remove(tmp.c_str());
+        bg_io_discard_temp(tmp);
         return BG_ERR_IO;
     }
     return bg_io_commit_temp(tmp, path, err, errlen);

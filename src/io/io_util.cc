@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "io_util.h"
+#include "common/safe_file.h"
 
 #include <cerrno>
 #include <cstdarg>
@@ -63,69 +64,31 @@ bg_status bg_io_check_readable(const char *path, char *err, size_t errlen)
     return BG_OK;
 }
 
+// The temporary-file protocol is src/tools/common/safe_file.c, the same code
+// the C tools use (compiled into this module too): one rule for the new
+// file's mode, for non-regular targets and for the signal-time cleanup.
+static bg_status from_tool(bg_status st, const bgt_err &e, char *err, size_t errlen)
+{
+    if (st != BG_OK)
+        bg_io_set_error(err, errlen, "%s", e.msg);
+    return st;
+}
+
 bg_status bg_io_make_temp(const char *path, std::string *tmp, char *err, size_t errlen)
 {
-    std::string p(path);
-    size_t slash = p.find_last_of('/');
-    std::string dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
-    std::string base = slash == std::string::npos ? p : p.substr(slash + 1);
-    if (base.empty()) {
-        bg_io_set_error(err, errlen, "cannot write '%s': not a file name", path);
-        return BG_ERR_IO;
-    }
-    size_t dot = base.find_last_of('.');
-    std::string ext = (dot == std::string::npos || dot == 0) ? std::string() : base.substr(dot);
-    std::string stem = (dot == std::string::npos || dot == 0) ? base : base.substr(0, dot);
-    std::string templ = dir + "." + stem + ".tmpXXXXXX" + ext;
-    std::vector<char> buf(templ.begin(), templ.end());
-    buf.push_back('\0');
-    int fd = ::mkstemps(buf.data(), static_cast<int>(ext.size()));
-    if (fd < 0) {
-        int e = errno;
-        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, std::strerror(e));
-        return BG_ERR_IO;
-    }
-    ::close(fd);
-    tmp->assign(buf.data());
+    bgt_err e;
+    char *t = bgt_safe_temp_path(path, &e);
+    if (!t)
+        return from_tool(e.status, e, err, errlen);
+    tmp->assign(t);
+    std::free(t);
     return BG_OK;
 }
 
-// mkstemps creates 0600 files; an output should get the usual 0666 & ~umask.
-// The umask is read from /proc (umask() itself would have to change it, which
-// races with other threads creating files).
-static mode_t new_file_mode(void)
-{
-    mode_t mask = 022;
-    if (FILE *f = std::fopen("/proc/self/status", "r")) {
-        char line[256];
-        while (std::fgets(line, sizeof line, f)) {
-            unsigned m;
-            if (std::sscanf(line, "Umask: %o", &m) == 1) {
-                mask = static_cast<mode_t>(m);
-                break;
-            }
-        }
-        std::fclose(f);
-    }
-    return static_cast<mode_t>(0666 & ~mask);
-}
+void bg_io_discard_temp(const std::string &tmp) { bgt_safe_discard_path(tmp.c_str()); }
 
 bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen)
 {
-    // Renaming over a device node or FIFO (say /dev/null, as root) would replace
-    // it with a regular file: refuse instead.
-    struct stat st;
-    if (::stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        std::remove(tmp.c_str());
-        bg_io_set_error(err, errlen, "refusing to replace '%s': it is not a regular file", path);
-        return BG_ERR_IO;
-    }
-    (void)::chmod(tmp.c_str(), new_file_mode());
-    if (std::rename(tmp.c_str(), path) != 0) {
-        int e = errno;
-        std::remove(tmp.c_str());
-        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, std::strerror(e));
-        return BG_ERR_IO;
-    }
-    return BG_OK;
+    bgt_err e;
+    return from_tool(bgt_safe_commit_path(tmp.c_str(), path, &e), e, err, errlen);
 }

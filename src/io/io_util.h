@@ -41,6 +41,9 @@ BG_IO_HIDDEN bg_status bg_io_check_readable(const char *path, char *err, size_t 
  * writable. */
 BG_IO_HIDDEN bg_status bg_io_make_temp(const char *path, std::string *tmp, char *err, size_t errlen);
 
+/* Remove a temporary of bg_io_make_temp after a failed write. */
+BG_IO_HIDDEN void bg_io_discard_temp(const std::string &tmp);
+
 /* Give the temporary file the permissions a new file would get, and rename it
  * onto `path`. On failure removes it and returns BG_ERR_IO. */
 BG_IO_HIDDEN bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen);

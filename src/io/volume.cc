@@ -155,11 +155,11 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
         file.write(grids);
         file.close();
     } catch (const std::bad_alloc &) {
-        std::remove(tmp.c_str());
+        bg_io_discard_temp(tmp);
         bg_io_set_error(err, errlen, "cannot write '%s': out of memory", path);
         return BG_ERR_OUT_OF_MEMORY;
     } catch (const std::exception &e) {
-        std::remove(tmp.c_str());
+        bg_io_discard_temp(tmp);
         bg_io_set_error(err, errlen, "cannot write '%s': %s", path, e.what());
         return BG_ERR_IO;
     }

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Tests of `bumpgrad render` (the paper's scenes, Mikkelsen 2010 Figures 1-3).
 
-Usage: test_render.py BUMPGRAD_EXE {presets|inward|density|none|determinism|badargs}
+Usage: test_render.py BUMPGRAD_EXE {presets|inward|density|none|determinism|badargs|closeup}
 
 Checks are properties, not numbers saved from an earlier run: image sizes follow
 from --size and the documented panel layout and are read back with OpenImageIO's
@@ -170,6 +170,24 @@ def t_determinism(tmp):
     check(d.returncode == 0, "1 and 2 threads give identical pixels")
 
 
+def t_closeup(tmp):
+    # --closeup 1 magnifies a crop as large as the image: it must be the image
+    # itself (the crop once started left of the buffer and read outside it).
+    p, m = os.path.join(tmp, "p.exr"), os.path.join(tmp, "m.exr")
+    rc1, _, e1 = run(["--compare", "surfgrad,listing1", "--closeup", "1", "--size", "64x64",
+                      "--output", p], tmp)
+    rc2, _, e2 = run(["--method", "surfgrad", "--size", "64x64", "--output", m], tmp)
+    check(rc1 == 0 and rc2 == 0, f"--closeup 1 panel renders ({e1.strip()} {e2.strip()})")
+    # Layout at W = 64: label font 8, pad 4, label row 14, cell 64 + 4: the
+    # close-up of column (a) starts at x = 4, y = 4 + (14 + 64 + 4) + 14.
+    c = os.path.join(tmp, "c.exr")
+    subprocess.run([os.environ.get("OIIOTOOL", "oiiotool"), p, "--cut", "64x64+4+100", "-o", c],
+                   check=True)
+    d = subprocess.run(["idiff", "-fail", "0", "-failpercent", "0", c, m], stdout=subprocess.PIPE,
+                       text=True)
+    check(d.returncode == 0, "the x1 close-up equals the render itself")
+
+
 def t_badargs(tmp):
     old = os.path.join(tmp, "old.png")
     with open(old, "wb") as f:
@@ -207,7 +225,7 @@ def t_badargs(tmp):
 
 
 TESTS = {"presets": t_presets, "inward": t_inward, "density": t_density, "none": t_none,
-         "determinism": t_determinism, "badargs": t_badargs}
+         "determinism": t_determinism, "badargs": t_badargs, "closeup": t_closeup}
 
 if __name__ == "__main__":
     if shutil.which("iinfo") is None or shutil.which("idiff") is None:

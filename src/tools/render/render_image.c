@@ -164,6 +164,16 @@ static bg_status compose_panel(const render_opts *o, const render_job *job, cons
         /* Right of and below the centre: half-lit (the detail reads best away
          * from the highlight) and away from the silhouette. */
         kx = (int)(0.40 * W) - kw / 2, ky = (int)(0.56 * H) - kh / 2;
+        /* A large crop (--closeup 1 or 2) would start left of or end below the
+         * image: keep it inside (it read outside the buffer once). */
+        if (kx > W - kw)
+            kx = W - kw;
+        if (ky > H - kh)
+            ky = H - kh;
+        if (kx < 0)
+            kx = 0;
+        if (ky < 0)
+            ky = 0;
         crop = malloc((size_t)kw * kh * 3 * sizeof(float));
     }
     if (!heat || (o->closeup && !crop)) {
