@@ -152,7 +152,7 @@ static int unknown_command(const char *name)
     return cli_usage_error(NULL, "unknown command \"%s\" (see bumpgrad --help)", name);
 }
 
-int main(int argc, char **argv)
+static int dispatch(int argc, char **argv)
 {
     const char *isa_arg = NULL;
     int want_version = 0, want_help = 0, i = 1;
@@ -216,10 +216,16 @@ int main(int argc, char **argv)
     const cli_command *c = find_command(name);
     if (!c)
         return unknown_command(name);
-    rc = c->run(argc - i, argv + i);
-    /* Summaries and stats lines lost to a full disk or a closed stdout must not
-     * pass as success: stdio reports the error only when it flushes. */
+    return c->run(argc - i, argv + i);
+}
+
+int main(int argc, char **argv)
+{
+    int rc = dispatch(argc, argv);
+    /* Summaries, help, --version and stats lines lost to a full disk or a
+     * closed stdout must not pass as success: stdio reports the error only when
+     * it flushes. */
     if (rc == CLI_OK && (fflush(stdout) != 0 || ferror(stdout)))
-        rc = cli_fail(name, "writing to standard output failed: %s", strerror(errno));
+        rc = cli_fail(NULL, "writing to standard output failed: %s", strerror(errno));
     return rc;
 }

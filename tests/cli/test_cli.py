@@ -502,6 +502,12 @@ def test_badinput():
         ("blank line inside", b"x,y,z\n1,2,3\n\n4,5,6\n", 3, 1, "blank line"),
         ("blank line after header", b"x,y,z\r\n  \r\n4,5,6\r\n", 2, 1, "blank line"),
         ("NUL byte", b"x,y,z\n1,2\x00,3\n", 2, 3, "expected a number"),
+        # strtod skips these before a number; as after one, they are errors.
+        ("leading vertical tab", b"x,y,z\n1,\x0b2,3\n", 2, 3, "expected a number"),
+        ("leading form feed", b"x,y,z\n1,2,\x0c3\n", 2, 5, "expected a number"),
+        ("leading carriage return", b"x,y,z\n\r1,2,3\n", 2, 1, "expected a number"),
+        ("line over 65536 bytes", b"x,y,z\n1,2,3" + b" " * 65532 + b"\n", 2, 1,
+         "longer than 65536 bytes"),
         ("late error", b"x,y,z\n" + b"0.5,0.25,0.125\n" * 20000 + b"1,x,3\n", 20002, 3, '"x"'),
     ]
     perturb_cases = [
@@ -580,9 +586,11 @@ def test_badinput():
             os.chmod(ro, 0o755)
     # Text on a full stdout (summaries, stats, help) is a failure, not exit 0.
     if os.path.exists("/dev/full"):
-        with open("/dev/full", "wb") as full:
-            rc, _, err = run(["eval", "--help"], stdout=full)
-        check(rc == 1 and "standard output" in err, "stdout on /dev/full: exit 1 (%d %r)" % (rc, err))
+        for args in (["eval", "--help"], ["--version"], ["--help"], ["help", "eval"], ["help"]):
+            with open("/dev/full", "wb") as full:
+                rc, _, err = run(args, stdout=full)
+            check(rc == 1 and "standard output" in err,
+                  "%s with stdout on /dev/full: exit 1 (%d %r)" % (" ".join(args), rc, err))
     # An empty output name is a usage error (it was exit 1, "writing  failed").
     for cmd, data in (("eval", b"x,y,z\n1,2,3\n"), ("perturb", b"x,y,z,nx,ny,nz\n1,2,3,0,0,1\n")):
         rc, out, err = run([cmd, "-i", "-", "-o", ""], stdin=data)
@@ -598,6 +606,16 @@ def test_badinput():
 
 
 # ---- streaming in constant memory ----
+def test_line_limit():
+    # A line of exactly the documented 65536 bytes is accepted, with "\n" or "\r\n".
+    for nl in (b"\n", b"\r\n"):
+        row = b"1,2,3" + b" " * (65536 - 5)
+        rc, out, err = run(["eval", "--function", "noise", "-i", "-", "-o", "-"],
+                           stdin=b"x,y,z" + nl + row + nl)
+        check(rc == 0 and len(out.splitlines()) == 2,
+              f"a 65536-byte line ending in {nl!r} is accepted (rc {rc}: {err.strip()})")
+
+
 def test_stream():
     rows = 1_000_000
     with tempfile.TemporaryDirectory() as d:
@@ -650,7 +668,7 @@ def test_stream():
 
 
 TESTS = {"main": test_main, "eval": test_eval, "perturb": test_perturb,
-         "badinput": test_badinput, "stream": test_stream}
+         "badinput": lambda: (test_badinput(), test_line_limit()), "stream": test_stream}
 
 if __name__ == "__main__":
     TESTS[sys.argv[2]]()

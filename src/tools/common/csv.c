@@ -5,11 +5,15 @@
  * an error naming the line and column rather than a silently skipped row. */
 #define _POSIX_C_SOURCE 200809L
 #include "csv.h"
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+
+/* The buffer holds the longest accepted line with its "\r\n". */
+#define BUF_CAP (BGT_CSV_MAX_LINE + 2)
 
 static int is_blank_char(char ch)
 {
@@ -67,7 +71,7 @@ bg_status bgt_csv_open(bgt_csv *c, bgt_err *err, const char *path, int allow_non
                 c->size = (size_t)st.st_size;
         }
     }
-    c->buf = malloc(BGT_CSV_MAX_LINE + 1);
+    c->buf = malloc(BUF_CAP + 1);
     if (!c->buf) {
         bgt_csv_close(c);
         return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
@@ -97,7 +101,12 @@ static int next_line(bgt_csv *c, char **line, size_t *len)
             c->line++;
             if (n > 0 && p[n - 1] == '\r')
                 n--;
-            p[n] = '\0'; /* buf has one spare byte past BGT_CSV_MAX_LINE */
+            if (n > BGT_CSV_MAX_LINE) {
+                bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:1: line longer than %u bytes", c->name,
+                         c->line, (unsigned)BGT_CSV_MAX_LINE);
+                return -(int)BG_ERR_FORMAT;
+            }
+            p[n] = '\0'; /* buf has one spare byte past BUF_CAP */
             *line = p;
             *len = n;
             return 1;
@@ -109,13 +118,13 @@ static int next_line(bgt_csv *c, char **line, size_t *len)
             c->end -= c->start;
             c->start = 0;
         }
-        if (c->end == BGT_CSV_MAX_LINE) {
+        if (c->end == BUF_CAP) {
             c->line++;
             bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:1: line longer than %u bytes", c->name, c->line,
                             (unsigned)BGT_CSV_MAX_LINE);
             return -(int)BG_ERR_FORMAT;
         }
-        size_t r = fread(c->buf + c->end, 1, BGT_CSV_MAX_LINE - c->end, c->fp);
+        size_t r = fread(c->buf + c->end, 1, BUF_CAP - c->end, c->fp);
         c->end += r;
         c->consumed += r;
         if (r == 0) {
@@ -210,6 +219,11 @@ static bg_status parse_row(bgt_csv *c, char *s, size_t n, int count, int dbl, fl
         size_t vb = b;
         while (vb < e && is_blank_char(s[vb]))
             vb++;
+        /* strtod would skip \v \f \r too; they are no more a number's edge
+         * here than after it. */
+        if (vb < e && isspace((unsigned char)s[vb]))
+            return row_error(c, vb + 1, "expected a number, got \"%s\"",
+                             quote(s + vb, e - vb, tmp, sizeof tmp));
         char saved = s[e];
         s[e] = '\0';
         char *end;

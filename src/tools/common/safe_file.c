@@ -3,6 +3,7 @@
  * temporaries that a signal removes. */
 #define _GNU_SOURCE /* mkstemps */
 #include "safe_file.h"
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -21,6 +22,13 @@
 static _Atomic(char *) live_temps[MAX_LIVE_TEMPS];
 static atomic_int handlers_installed;
 
+/* The handlers found when ours were installed. This file is compiled into the
+ * program and into the I/O module (which has its own registry), so each copy
+ * chains to the one installed before it: a signal cleans both registries. */
+static const int caught[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+#define NCAUGHT (sizeof caught / sizeof caught[0])
+static struct sigaction previous[NCAUGHT];
+
 static void on_signal(int sig)
 {
     for (int i = 0; i < MAX_LIVE_TEMPS; i++) {
@@ -28,6 +36,12 @@ static void on_signal(int sig)
         if (p)
             unlink(p);
     }
+    for (size_t k = 0; k < NCAUGHT; k++)
+        if (caught[k] == sig && !(previous[k].sa_flags & SA_SIGINFO) &&
+            previous[k].sa_handler != SIG_DFL && previous[k].sa_handler != SIG_IGN) {
+            previous[k].sa_handler(sig); /* the other registry; it re-raises */
+            break;
+        }
     signal(sig, SIG_DFL);
     raise(sig);
 }
@@ -36,16 +50,15 @@ static void install_handlers(void)
 {
     if (atomic_exchange(&handlers_installed, 1))
         return;
-    const int sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
-    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
-        struct sigaction sa, old;
+    for (size_t i = 0; i < NCAUGHT; i++) {
+        struct sigaction sa;
         memset(&sa, 0, sizeof sa);
         sa.sa_handler = on_signal;
         sigemptyset(&sa.sa_mask);
         /* Keep an inherited "ignore" (nohup, a shell's SIGPIPE policy). */
-        if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN)
+        if (sigaction(caught[i], NULL, &previous[i]) != 0 || previous[i].sa_handler == SIG_IGN)
             continue;
-        sigaction(sigs[i], &sa, NULL);
+        sigaction(caught[i], &sa, NULL);
     }
 }
 
@@ -122,7 +135,49 @@ static void sync_parent_dir(const char *path)
     free(dir);
 }
 
-/* DIR/.STEM.tmpXXXXXX.EXT, created with mkstemps (race-free), fd returned. */
+/* Temporaries are DIR/.BASE.tmp-bumpgrad-PID-XXXXXX.EXT: BASE is the target's
+ * whole file name and EXT its extension again (writers that choose the format
+ * by extension still see it). A run killed by SIGKILL (or a power cut) cannot
+ * clean up; the next run that writes the same target in the same folder
+ * removes the temporaries of that target whose process no longer exists. */
+#define TEMP_TAG ".tmp-bumpgrad-"
+
+static void remove_stale_temps(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    size_t dirlen = (size_t)(base - path);
+    char dir[4096], prefix[512];
+    if (dirlen + 2 > sizeof dir || strlen(base) + sizeof TEMP_TAG + 2 > sizeof prefix)
+        return;
+    if (dirlen) {
+        memcpy(dir, path, dirlen);
+        dir[dirlen] = '\0';
+    } else {
+        strcpy(dir, ".");
+    }
+    int plen = snprintf(prefix, sizeof prefix, ".%s" TEMP_TAG, base);
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *ent;
+    while ((ent = readdir(d)) != NULL) {
+        if (strncmp(ent->d_name, prefix, (size_t)plen) != 0)
+            continue;
+        char *end;
+        long pid = strtol(ent->d_name + plen, &end, 10);
+        if (end == ent->d_name + plen || *end != '-' || pid <= 0 || pid == (long)getpid())
+            continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue; /* alive (or not ours to judge): maybe a concurrent run */
+        char full[4096 + 256];
+        snprintf(full, sizeof full, "%s/%s", dir, ent->d_name);
+        unlink(full);
+    }
+    closedir(d);
+}
+
+/* The temporary of `path`, created with mkstemps (race-free), fd returned. */
 static char *make_temp(const char *path, int *fd_out, bgt_err *e)
 {
     const char *slash = strrchr(path, '/');
@@ -134,14 +189,16 @@ static char *make_temp(const char *path, int *fd_out, bgt_err *e)
     const char *dot = strrchr(base, '.');
     if (!dot || dot == base)
         dot = base + strlen(base);
-    size_t dirlen = (size_t)(base - path), stemlen = (size_t)(dot - base), extlen = strlen(dot);
-    size_t cap = dirlen + 1 + stemlen + sizeof ".tmpXXXXXX" + extlen;
+    size_t extlen = strlen(dot);
+    size_t cap = strlen(path) + sizeof TEMP_TAG + 32 + extlen;
     char *t = malloc(cap);
     if (!t) {
         bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
-    snprintf(t, cap, "%.*s.%.*s.tmpXXXXXX%s", (int)dirlen, path, (int)stemlen, base, dot);
+    remove_stale_temps(path);
+    snprintf(t, cap, "%.*s.%s" TEMP_TAG "%ld-XXXXXX%s", (int)(base - path), path, base,
+             (long)getpid(), dot);
     int fd = mkstemps(t, (int)extlen);
     if (fd < 0) {
         int err = errno;

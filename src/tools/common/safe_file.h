@@ -12,8 +12,10 @@
  *  - an existing target that is not a regular file (/dev/null, a FIFO, a
  *    terminal) is never renamed over: the stream API writes it in place, the
  *    path API refuses it; a folder is refused by both;
- *  - temporaries are registered, so SIGINT/SIGTERM/SIGHUP/SIGPIPE remove them
- *    (SIGKILL cannot be caught: a killed run may leave ".NAME.tmpXXXXXX").
+ *  - temporaries (DIR/.BASE.tmp-bumpgrad-PID-XXXXXX.EXT) are registered, so
+ *    SIGINT/SIGTERM/SIGHUP/SIGPIPE remove them; SIGKILL cannot be caught, and a
+ *    killed run leaves its temporary behind until the next run that writes the
+ *    same target in the same folder removes it (its PID no longer exists).
  */
 #ifndef BUMPGRAD_TOOLS_SAFE_FILE_H
 #define BUMPGRAD_TOOLS_SAFE_FILE_H
@@ -43,7 +45,7 @@ void bgt_safe_abort(bgt_safe_file *f);
 
 /* ---- path API, for writers that need a file name (OpenImageIO, OpenVDB) ---- */
 /* Create an empty, unique temporary next to `path` that keeps its extension
- * (DIR/.STEM.tmpXXXXXX.EXT), so writers that pick the format by extension
+ * (DIR/.BASE.tmp-bumpgrad-PID-XXXXXX.EXT), so writers that pick the format by extension
  * still work, and register it. Returns a malloc'd path, or NULL with *e set. */
 char *bgt_safe_temp_path(const char *path, bgt_err *e);
 /* fsync the finished temporary, give it the new-file mode and rename it onto
