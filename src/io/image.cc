@@ -134,6 +134,30 @@ static TypeDesc pixel_typedesc(bg_pixel_type t)
     return TypeDesc::UNKNOWN;
 }
 
+// Some writers (libpng through OpenImageIO's PNG plugin) ignore a failed
+// fwrite: on a full disk the file is short and close() still succeeds. So the
+// finished temporary is read back in full before it may replace anything.
+static bool read_back_ok(const std::string &tmp, const bg_image *img, std::string *why)
+{
+    auto in = ImageInput::open(tmp);
+    if (!in) {
+        *why = OIIO::geterror();
+        return false;
+    }
+    const ImageSpec &spec = in->spec();
+    if (spec.width != img->width || spec.height != img->height ||
+        spec.nchannels != img->channels) {
+        *why = "the file read back has another size";
+        return false;
+    }
+    std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+    bool ok = in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, pixels.data());
+    if (!ok)
+        *why = in->geterror();
+    in->close();
+    return ok;
+}
+
 static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
                             char *err, size_t errlen)
 {
@@ -195,6 +219,14 @@ static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type
         out.reset(); // closes the temporary file before it is removed
         bg_io_set_error(err, errlen, "cannot write '%s' (%s)", path,
                         msg.empty() ? "write failed" : msg.c_str());
+        bg_io_discard_temp(tmp);
+        return BG_ERR_IO;
+    }
+    out.reset();
+    std::string why;
+    if (!read_back_ok(tmp, img, &why)) {
+        bg_io_set_error(err, errlen, "cannot write '%s' (the written file does not read back: %s)",
+                        path, why.empty() ? "read failed" : why.c_str());
         bg_io_discard_temp(tmp);
         return BG_ERR_IO;
     }

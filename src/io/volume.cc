@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -154,6 +155,18 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
         vdb::io::File file(tmp);
         file.write(grids);
         file.close();
+        // io::File does not report a short write (full disk, file size limit):
+        // the finished temporary is read back in full before it may replace
+        // anything.
+        vdb::io::File check(tmp);
+        check.open(false);
+        size_t n = 0;
+        for (auto it = check.beginName(); it != check.endName(); ++it, ++n)
+            if (!check.readGrid(it.gridName()))
+                throw std::runtime_error("a grid does not read back");
+        check.close();
+        if (n != grids.size())
+            throw std::runtime_error("the file read back has another number of grids");
     } catch (const std::bad_alloc &) {
         bg_io_discard_temp(tmp);
         bg_io_set_error(err, errlen, "cannot write '%s': out of memory", path);
