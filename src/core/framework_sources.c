@@ -100,8 +100,8 @@ bg_vec3 bg_surfgrad_from_perturbed_normal(bg_vec3 n, bg_vec3 m)
 
 /* ---- triplanar ------------------------------------------------------------------- */
 
-/* Mikkelsen's reference subtracts 0.2 from |n_i| (after the Cascades demo): an axis
- * within 78.5 degrees of the tangent plane gets exactly weight 0 and is not read. */
+/* Mikkelsen's reference subtracts 0.2 from |n_i| (after the Cascades demo): a plane
+ * seen within 11.5 degrees of edge-on gets exactly weight 0 and is not read. */
 #define TRIPLANAR_OFFSET 0.2
 
 bg_dvec3 bg_triplanar_weights_exd(bg_dvec3 n, double k, bg_triplanar_weighting mode)
