@@ -13,12 +13,15 @@
  *    tangent-space normal vector with a tangent basis");
  *  - an object-space perturbed normal;
  *  - height derivatives along a parametrization or along the screen (Mikkelsen 2010,
- *    eq. 3 and Listing 1), with height-texture differencing (Listing 2);
+ *    eq. 3 and Listing 1), with height-texture differencing (Listing 2), mip-level
+ *    and bicubic texture derivatives and the texel-to-screen chain rule of the
+ *    reference framework;
  *  - a volume gradient (eq. 2 is bg_surface_gradient in surfgrad.h) and its
  *    triplanar variant;
  * and supplies the frames they need: a tangent frame from UV and position derivatives
  * (the overview's compute_tbn), analytic dP/dx, dP/dy from ray differentials for
- * renderers without ddx/ddy, mikkTSpace renormalization, and face-forwarding.
+ * renderers without ddx/ddy, mikkTSpace renormalization, face-forwarding, and the
+ * parallax helpers that map between the surface and texture space.
  * The Orange Book's procedural bump pattern (section 11.4) is included as a
  * tangent-space normal source.
  *
