@@ -108,18 +108,39 @@ static void test_eq3_degenerate(void)
 
 static void test_triplanar(void)
 {
-    /* weights */
+    /* weights: the default is the reference's max(0, |n_i| - 0.2)^k, the power
+     * blend |n_i|^k is BG_TRIPLANAR_POWER; both written out here. */
     rv n = rnorm(R(1, -2, 3));
-    bg_dvec3 w = bg_triplanar_weightsd(to_d(n), 4);
+    bg_dvec3 w = bg_triplanar_weights_exd(to_d(n), 4, BG_TRIPLANAR_POWER);
     double s = pow(fabs(n.x), 4) + pow(fabs(n.y), 4) + pow(fabs(n.z), 4);
     CHECK(fabs(w.x - pow(n.x, 4) / s) < 1e-15 && fabs(w.y - pow(n.y, 4) / s) < 1e-15 &&
               fabs(w.z - pow(n.z, 4) / s) < 1e-15,
-          "weights k=4");
-    w = bg_triplanar_weightsd(to_d(n), 0);
-    CHECK(fabs(w.x - 1.0 / 3) < 1e-15 && fabs(w.z - 1.0 / 3) < 1e-15, "k=0 gives thirds");
-    w = bg_triplanar_weightsd(to_d(n), 5000);
-    CHECK(w.z == 1 && w.x == 0 && w.y == 0, "large k: dominant axis only (%g %g %g)", w.x, w.y, w.z);
-    CHECK(is_zero_d(bg_triplanar_weightsd(to_d(n), -1)), "negative k");
+          "power weights k=4");
+    w = bg_triplanar_weightsd(to_d(n), 4);
+    s = pow(fabs(n.x) - 0.2, 4) + pow(fabs(n.y) - 0.2, 4) + pow(fabs(n.z) - 0.2, 4);
+    CHECK(fabs(w.x - pow(fabs(n.x) - 0.2, 4) / s) < 1e-15 &&
+              fabs(w.y - pow(fabs(n.y) - 0.2, 4) / s) < 1e-15 &&
+              fabs(w.z - pow(fabs(n.z) - 0.2, 4) / s) < 1e-15,
+          "offset weights k=4");
+    for (int mode = 0; mode < 2; mode++) {
+        bg_triplanar_weighting m = mode ? BG_TRIPLANAR_POWER : BG_TRIPLANAR_OFFSET;
+        w = bg_triplanar_weights_exd(to_d(n), 0, m);
+        CHECK(fabs(w.x - 1.0 / 3) < 1e-15 && fabs(w.z - 1.0 / 3) < 1e-15, "k=0 gives thirds");
+        w = bg_triplanar_weights_exd(to_d(n), 5000, m);
+        CHECK(w.z == 1 && w.x == 0 && w.y == 0, "large k: dominant axis only (%g %g %g)", w.x,
+              w.y, w.z);
+        CHECK(is_zero_d(bg_triplanar_weights_exd(to_d(n), -1, m)), "negative k");
+    }
+    CHECK(is_zero_d(bg_triplanar_weights_exd(to_d(n), 1, (bg_triplanar_weighting)7)),
+          "unknown weighting");
+    /* An axis within the reference's dead zone (|n_x| <= 0.2) has weight 0 at every
+     * k, also k = 0, where the other two share equally. */
+    rv nd = rnorm(R(0.1, 0.5, 0.86));
+    w = bg_triplanar_weightsd(to_d(nd), 0);
+    CHECK(w.x == 0 && fabs(w.y - 0.5) < 1e-15 && fabs(w.z - 0.5) < 1e-15,
+          "dead zone at k=0: (%g %g %g)", w.x, w.y, w.z);
+    w = bg_triplanar_weightsd(to_d(nd), 0.5);
+    CHECK(w.x == 0 && w.y > 0, "dead zone at k=0.5");
 
     /* h = f(x, y) = sin(2x) + x y^2: a function of the xy plane. */
     double worst_exact = 0, worst_ref = 0;
@@ -141,12 +162,21 @@ static void test_triplanar(void)
         rv nn = rand_dir();
         double k = urand(0, 8);
         bg_dvec2 a = v2d(urand(-1, 1), urand(-1, 1)), b = v2d(urand(-1, 1), urand(-1, 1));
-        double ax = pow(fabs(nn.x), k), ay = pow(fabs(nn.y), k), az = pow(fabs(nn.z), k);
+        double ax = pow(fmax(fabs(nn.x) - 0.2, 0), k), ay = pow(fmax(fabs(nn.y) - 0.2, 0), k),
+               az = pow(fmax(fabs(nn.z) - 0.2, 0), k);
         double sum = ax + ay + az;
         rv gg = radd(radd(rmul(R(0, a.x, a.y), ax / sum), rmul(R(b.x, 0, b.y), ay / sum)),
                      rmul(R(fx, fy, 0), az / sum));
         bg_dvec3 rg = bg_surfgrad_triplanard(to_d(nn), k, a, b, dxy);
         worst_ref = fmax(worst_ref, rdist(from_d(rg), rproj(nn, gg)) / fmax(1, rlen(gg)));
+        /* The power blend through the caller-weights call. */
+        double px = pow(fabs(nn.x), k), py = pow(fabs(nn.y), k), pz = pow(fabs(nn.z), k);
+        double ps = px + py + pz;
+        rv gp = radd(radd(rmul(R(0, a.x, a.y), px / ps), rmul(R(b.x, 0, b.y), py / ps)),
+                     rmul(R(fx, fy, 0), pz / ps));
+        bg_dvec3 wp = bg_triplanar_weights_exd(to_d(nn), k, BG_TRIPLANAR_POWER);
+        bg_dvec3 rp = bg_surfgrad_triplanar_weightedd(to_d(nn), wp, a, b, dxy);
+        worst_ref = fmax(worst_ref, rdist(from_d(rp), rproj(nn, gp)) / fmax(1, rlen(gp)));
         bg_vec3 rf = bg_surfgrad_triplanar(to_f(nn), (float)k, v2f(a.x, a.y), v2f(b.x, b.y),
                                            v2f(fx, fy));
         CHECK(rdist(from_f(rf), from_d(rg)) < 1e-5 * fmax(1, rlen(gg)), "float triplanar");
