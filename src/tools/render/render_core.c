@@ -18,6 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "render/render.h"
+#include "bumpgrad/framework.h"
+#include "vecmath.h"
 #include "common/parallel.h"
 
 #define TILE 8 /* output pixels per tile side */
@@ -53,32 +55,17 @@ int render_shape_parse(const char *name, render_shape *out)
     return -1;
 }
 
-static float dot3(const float a[3], const float b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void cross3(const float a[3], const float b[3], float o[3])
-{
-    float x = a[1] * b[2] - a[2] * b[1], y = a[2] * b[0] - a[0] * b[2], z = a[0] * b[1] - a[1] * b[0];
-    o[0] = x, o[1] = y, o[2] = z;
-}
-static int normalize3(float v[3])
-{
-    float l = sqrtf(dot3(v, v));
-    if (!(l > 0) || !isfinite(l))
-        return 0;
-    v[0] /= l, v[1] /= l, v[2] /= l;
-    return 1;
-}
-
 void render_scene_camera(render_scene *s, float distance, float zoom)
 {
     /* A slight elevation shows the top of the objects, like the paper's views. */
     float dir[3] = {0.0f, 0.28f, 1.0f};
-    normalize3(dir);
+    bg_f3_normalize(dir);
     for (int a = 0; a < 3; a++)
         s->eye[a] = distance * dir[a], s->fwd[a] = -dir[a];
     float wup[3] = {0, 1, 0};
-    cross3(s->fwd, wup, s->right);
-    normalize3(s->right);
-    cross3(s->right, s->fwd, s->up);
+    bg_f3_cross(s->fwd, wup, s->right);
+    bg_f3_normalize(s->right);
+    bg_f3_cross(s->right, s->fwd, s->up);
     s->tan_half = 0.36397023f / zoom; /* tan(20 degrees): a 40-degree field of view */
     /* One point light above, left and in front (section 6: "a single point light"). */
     s->light[0] = -5.0f, s->light[1] = 4.0f, s->light[2] = 3.0f;
@@ -92,25 +79,15 @@ void render_listing1(const float pos[4][3], const float h[4], int lane, int fine
      * 1x2"); coarse uses the top row and left column for the whole quad. */
     int lx = lane & 1, ly = lane >> 1;
     int r = fine ? 2 * ly : 0, c = fine ? lx : 0;
-    float sS[3], sT[3], R1[3], R2[3];
+    float sS[3], sT[3];
     for (int a = 0; a < 3; a++)
         sS[a] = pos[r + 1][a] - pos[r][a], sT[a] = pos[c + 2][a] - pos[c][a];
     float dBs = h[r + 1] - h[r], dBt = h[c + 2] - h[c];
-    /* Listing 1: vR1 = cross(vSigmaT, vN), vR2 = cross(vN, vSigmaS),
-     * fDet = dot(vSigmaS, vR1); eq. (3) scaled by |det| so no division. */
-    cross3(sT, n, R1);
-    cross3(n, sS, R2);
-    float det = dot3(sS, R1);
-    if (!(det != 0)) {
-        /* HLSL sign(0) = 0 would give normalize(0); keep the normal instead. */
-        out[0] = n[0], out[1] = n[1], out[2] = n[2];
-        return;
-    }
-    float sg = det > 0 ? 1.0f : -1.0f, ad = fabsf(det);
-    for (int a = 0; a < 3; a++)
-        out[a] = ad * n[a] - sg * (dBs * R1[a] + dBt * R2[a]);
-    if (!normalize3(out))
-        out[0] = n[0], out[1] = n[1], out[2] = n[2];
+    /* Listing 1 itself (and its det = 0 rule) is the library's, shared with
+     * the studies: bg_listing1_normal (framework.h). */
+    bg_vec3 o = bg_listing1_normal((bg_vec3){n[0], n[1], n[2]}, (bg_vec3){sS[0], sS[1], sS[2]},
+                                   (bg_vec3){sT[0], sT[1], sT[2]}, dBs, dBt);
+    out[0] = o.x, out[1] = o.y, out[2] = o.z;
 }
 
 /* Figure 1(a): the normal of the displaced surface tau = sigma + h n from its
@@ -127,12 +104,12 @@ static void flat_normal(const float tau[4][3], const float pos[4][3], int lane, 
         tS[a] = tau[r + 1][a] - tau[r][a], tT[a] = tau[c + 2][a] - tau[c][a];
         sS[a] = pos[r + 1][a] - pos[r][a], sT[a] = pos[c + 2][a] - pos[c][a];
     }
-    cross3(sS, sT, cs);
-    float det = dot3(nf, cs);
-    cross3(tS, tT, out);
+    bg_f3_cross(sS, sT, cs);
+    float det = bg_f3_dot(nf, cs);
+    bg_f3_cross(tS, tT, out);
     if (det < 0)
         out[0] = -out[0], out[1] = -out[1], out[2] = -out[2];
-    if (!normalize3(out))
+    if (!bg_f3_normalize(out))
         out[0] = nf[0], out[1] = nf[1], out[2] = nf[2];
 }
 
@@ -141,12 +118,12 @@ static void shade(const render_scene *s, const float p[3], const float d[3], con
 {
     static const float albedo[3] = {0.60f, 0.57f, 0.54f};
     float L[3] = {s->light[0] - p[0], s->light[1] - p[1], s->light[2] - p[2]};
-    normalize3(L);
+    bg_f3_normalize(L);
     float V[3] = {-d[0], -d[1], -d[2]}, H[3] = {L[0] + V[0], L[1] + V[1], L[2] + V[2]};
-    normalize3(H);
-    float nl = dot3(n, L), diff = nl > 0 ? nl : 0, spec = 0;
+    bg_f3_normalize(H);
+    float nl = bg_f3_dot(n, L), diff = nl > 0 ? nl : 0, spec = 0;
     if (nl > 0) {
-        float nh = dot3(n, H);
+        float nh = bg_f3_dot(n, H);
         /* Blinn-Phong; the highlight makes normal errors easy to see. */
         spec = nh > 0 ? 0.35f * powf(nh, 40.0f) : 0;
     }
@@ -242,7 +219,7 @@ static int trace(const render_scene *s, const float d[3], float p[3], float n[3]
             p[a] = (float)(e[a] + t * d[a]);
         for (int a = 0; a < 3; a++)
             n[a] = p[a];
-        normalize3(n);
+        bg_f3_normalize(n);
         memcpy(nf, n, 3 * sizeof(float));
         *prim = 0;
         return 1;
@@ -259,7 +236,7 @@ static int trace(const render_scene *s, const float d[3], float p[3], float n[3]
         n[a] = b0 * N[a] + h.b1 * N[3 + a] + h.b2 * N[6 + a];
         nf[a] = s->mesh->face[(size_t)h.prim * 3 + a];
     }
-    if (!normalize3(n))
+    if (!bg_f3_normalize(n))
         memcpy(n, nf, 3 * sizeof(float));
     *prim = h.prim;
     return 1;
@@ -286,7 +263,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             float *d = T->dir + k * 3;
             for (int a = 0; a < 3; a++)
                 d[a] = S->fwd[a] + u * S->right[a] + v * S->up[a];
-            normalize3(d);
+            bg_f3_normalize(d);
             T->hit[k] = (unsigned char)trace(S, d, T->p + k * 3, T->n + k * 3, T->nf + k * 3,
                                              &T->prim[k]);
         }
@@ -349,7 +326,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 }
                 const float *d = T->dir + m * 3;
                 float w[3] = {P0[0] - S->eye[0], P0[1] - S->eye[1], P0[2] - S->eye[2]};
-                float dn = dot3(d, N0), t = dn != 0 ? dot3(w, N0) / dn : -1.0f;
+                float dn = bg_f3_dot(d, N0), t = dn != 0 ? bg_f3_dot(w, N0) / dn : -1.0f;
                 if (!(t > 0) || !isfinite(t)) {
                     T->qok[k * 4 + l] = 0; /* the plane is edge-on or behind the eye */
                     continue;
@@ -382,8 +359,8 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 if (T->hit[k]) {
                     const float *p = T->p + k * 3, *n = T->n + k * 3, *d = T->dir + k * 3;
                     float w[3] = {p[0] - S->eye[0], p[1] - S->eye[1], p[2] - S->eye[2]};
-                    float c = fabsf(dot3(d, n));
-                    T->bh[nb] = sqrtf(dot3(w, w)) * ang / (c > 1.0f / 64 ? c : 1.0f / 64);
+                    float c = fabsf(bg_f3_dot(d, n));
+                    T->bh[nb] = sqrtf(bg_f3_dot(w, w)) * ang / (c > 1.0f / 64 ? c : 1.0f / 64);
                     T->bx[nb] = p[0], T->by[nb] = p[1], T->bz[nb] = p[2];
                     T->bnx[nb] = n[0], T->bny[nb] = n[1], T->bnz[nb] = n[2];
                     T->bidx[nb++] = (int)k;
@@ -483,7 +460,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                             if (!(e == e))
                                 e = 180.0f; /* a zero normal counts as a total failure */
                             J->err[mi][g] = e;
-                            J->inward[mi][g] = dot3(o, T->n + k * 3) <= 0;
+                            J->inward[mi][g] = bg_f3_dot(o, T->n + k * 3) <= 0;
                             esum += e;
                             ecount++;
                         } else {
