@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "mesh_tool.h"
+#include "mesh/mesh_tool.h"
 
 typedef struct dvec {
     double x, y, z;
@@ -133,8 +133,8 @@ void mesh_tangents_free(mesh_tangents *t)
         }
 }
 
-int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, const float *ny,
-                         const float *nz, mesh_tangents *out)
+bg_status mesh_vertex_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                               const float *nz, mesh_tangents *out, bgt_err *e)
 {
     size_t nv = m->vertex_count;
     memset(out, 0, sizeof *out);
@@ -148,7 +148,8 @@ int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, con
     if (!ok) {
         free(acc);
         mesh_tangents_free(out);
-        return cli_fail(cmd, "out of memory for the tangents of %zu vertices", nv);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the tangents of %zu vertices",
+                        nv);
     }
     for (size_t t = 0; t < m->triangle_count; t++) {
         if (!mesh_triangle_usable(m, t))
@@ -204,5 +205,5 @@ int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, con
         }
     }
     free(acc);
-    return 0;
+    return BG_OK;
 }
