@@ -11,12 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "bake/bake.h"
+#include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
-
-/* The framework's bound on a derivative-map ratio: beyond 128 the normal is
- * within half a degree of the tangent plane, and the clamp keeps the surface
- * gradient finite where m.z is 0 or negative. */
-#define DERIV_LIMIT 128.0f
 
 /* Extension of a path in lower case ("" if none), for format checks. */
 static void lower_ext(const char *path, char *out, size_t len)
@@ -93,27 +89,6 @@ static size_t first_bad_normal(const bg_image *in)
     return (size_t)-1;
 }
 
-/* ---- TEMPORARY: the derivative-map rule, kept here as ONE function until the
- * library's bg_tangent_normal_to_derivs(bg_vec3 m) replaces it (at merge; the
- * clamp must stay exactly as it is). (dh/du, dh/dv) = (-m.x/m.z, -m.y/m.z),
- * surface-gradient framework; m.z at or below max(|m.x|,|m.y|)/DERIV_LIMIT
- * (including negative: a normal pointing inward) is raised to it, so the
- * ratios saturate at +-128 instead of flipping sign; an all-zero m has no
- * slope (0, 0). ---- */
-static bg_vec2 tangent_normal_to_derivs(bg_vec3 m)
-{
-    float mz = m.z;
-    float lim = fmaxf(fabsf(m.x), fabsf(m.y)) / DERIV_LIMIT;
-    if (!(mz > lim))
-        mz = lim;
-    bg_vec2 d = {0.0f, 0.0f};
-    if (mz > 0.0f) {
-        d.x = fminf(fmaxf(-m.x / mz, -DERIV_LIMIT), DERIV_LIMIT);
-        d.y = fminf(fmaxf(-m.y / mz, -DERIV_LIMIT), DERIV_LIMIT);
-    }
-    return d;
-}
-
 static void to_derivative_map(const bg_image *in, int y_down, float *out)
 {
     const size_t n = (size_t)in->width * in->height;
@@ -123,7 +98,9 @@ static void to_derivative_map(const bg_image *in, int y_down, float *out)
         bg_vec3 m = {2.0f * s[0] - 1.0f, 2.0f * s[1] - 1.0f, 2.0f * s[2] - 1.0f};
         if (y_down)
             m.y = -m.y;
-        const bg_vec2 d = tangent_normal_to_derivs(m);
+        /* The one rule of the library (framework.h): m.z mirrored to the
+         * visible side, slopes bounded by 128 along their own direction. */
+        const bg_vec2 d = bg_tangent_normal_to_derivs(m);
         out[3 * p + 0] = d.x;
         out[3 * p + 1] = d.y;
         out[3 * p + 2] = 0.0f;
