@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bumpgrad/framework.h"
 #include "common/safe_file.h"
 #include "study.h"
 
@@ -64,31 +65,6 @@ static void acc_errors_d(const acc_ctx *c, bgt_accuracy_row *row)
     acc_stats(c, sum, row);
 }
 
-/* ==== Listing 1 (Mikkelsen 2010) in float, as a shader computes it ====
- * TEMPORARY private copy, with exactly the shape of the library function
- * bg_listing1_normal(n, sigma_s, sigma_t, dbs, dbt) that replaces it at merge.
- * This copy returns (0,0,0) when the result has length 0 (det == 0), which
- * the error statistics count as 180 degrees. */
-static bg_vec3 listing1_normal(bg_vec3 n, bg_vec3 sigma_s, bg_vec3 sigma_t, float dbs, float dbt)
-{
-    float ssx = sigma_s.x, ssy = sigma_s.y, ssz = sigma_s.z;
-    float stx = sigma_t.x, sty = sigma_t.y, stz = sigma_t.z;
-    float nx = n.x, ny = n.y, nz = n.z;
-    /* vR1 = cross(vSigmaT, vN), vR2 = cross(vN, vSigmaS), fDet = dot(vSigmaS, vR1) */
-    float r1x = sty * nz - stz * ny, r1y = stz * nx - stx * nz, r1z = stx * ny - sty * nx;
-    float r2x = ny * ssz - nz * ssy, r2y = nz * ssx - nx * ssz, r2z = nx * ssy - ny * ssx;
-    float det = ssx * r1x + ssy * r1y + ssz * r1z;
-    float sg = det > 0 ? 1.0f : det < 0 ? -1.0f : 0.0f;
-    float gx = sg * (dbs * r1x + dbt * r2x), gy = sg * (dbs * r1y + dbt * r2y),
-          gz = sg * (dbs * r1z + dbt * r2z);
-    float ad = fabsf(det);
-    float sx = ad * nx - gx, sy = ad * ny - gy, sz = ad * nz - gz;
-    float l = sqrtf(sx * sx + sy * sy + sz * sz);
-    bg_vec3 r = {0, 0, 0};
-    if (l > 0)
-        r.x = sx / l, r.y = sy / l, r.z = sz / l;
-    return r;
-}
 
 /* ---- the methods: each fills (ox, oy, oz), or dout, for all n points ---- */
 
@@ -143,7 +119,7 @@ static void run_forward(acc_ctx *c, float step)
  * pixels are at p, p + dx, p + dy, p + dx + dy projected onto the sphere (the
  * density sets |dx| = |dy| = 1 / density in object units). Each pixel evaluates
  * the height once; ddx_fine/ddy_fine are differences inside its row/column pair,
- * as a GPU computes them, then Listing 1 (listing1_normal). */
+ * as a GPU computes them, then Listing 1 (bg_listing1_normal, framework.h). */
 static void run_listing1(acc_ctx *c)
 {
     const bg_height *h = &c->height;
@@ -162,7 +138,7 @@ static void run_listing1(acc_ctx *c)
             float dBs = h->amplitude * (c->h0[xb] - c->h0[xa]);
             float dBt = h->amplitude * (c->h0[yb] - c->h0[ya]);
             bg_vec3 n = {c->nx[i], c->ny[i], c->nz[i]};
-            bg_vec3 o = listing1_normal(n, ss, st, dBs, dBt);
+            bg_vec3 o = bg_listing1_normal(n, ss, st, dBs, dBt);
             c->ox[i] = o.x, c->oy[i] = o.y, c->oz[i] = o.z;
         }
     }

@@ -6,33 +6,12 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include "bumpgrad/framework.h"
 #include "stability.h"
 
-/* ==== Listing 1 (Mikkelsen 2010) in float, as a shader computes it ====
- * TEMPORARY private copy, with exactly the shape of the library function
- * bg_listing1_normal(n, sigma_s, sigma_t, dbs, dbt) that replaces it at merge.
- * This copy returns the zero vector unnormalized when its length is 0 (det ==
- * 0: sign(det) = 0 and |det| = 0), which l1_error counts as 180 degrees. */
-static bg_vec3 listing1_normal(bg_vec3 n, bg_vec3 sigma_s, bg_vec3 sigma_t, float dbs, float dbt)
-{
-    const float ss[3] = {sigma_s.x, sigma_s.y, sigma_s.z}, st[3] = {sigma_t.x, sigma_t.y, sigma_t.z};
-    const float nv[3] = {n.x, n.y, n.z};
-    /* vR1 = cross(vSigmaT, vN), vR2 = cross(vN, vSigmaS), fDet = dot(vSigmaS, vR1) */
-    float r1[3] = {st[1] * nv[2] - st[2] * nv[1], st[2] * nv[0] - st[0] * nv[2], st[0] * nv[1] - st[1] * nv[0]};
-    float r2[3] = {nv[1] * ss[2] - nv[2] * ss[1], nv[2] * ss[0] - nv[0] * ss[2], nv[0] * ss[1] - nv[1] * ss[0]};
-    float det = ss[0] * r1[0] + ss[1] * r1[1] + ss[2] * r1[2];
-    float sg = det > 0 ? 1.0f : det < 0 ? -1.0f : 0.0f;
-    float ad = fabsf(det);
-    bg_vec3 s = {ad * nv[0] - sg * (dbs * r1[0] + dbt * r2[0]), ad * nv[1] - sg * (dbs * r1[1] + dbt * r2[1]),
-                 ad * nv[2] - sg * (dbs * r1[2] + dbt * r2[2])};
-    float l = sqrtf(s.x * s.x + s.y * s.y + s.z * s.z);
-    if (l > 0)
-        s.x /= l, s.y /= l, s.z /= l;
-    return s;
-}
 
 /* Listing 1's fDet = dot(sigma_s, cross(sigma_t, n)), reported by the det
- * sweep (the same float operations as inside listing1_normal). */
+ * sweep (the same float operations as inside bg_listing1_normal). */
 static float listing1_det(bg_vec3 n, bg_vec3 sigma_s, bg_vec3 sigma_t)
 {
     float r1x = sigma_t.y * n.z - sigma_t.z * n.y, r1y = sigma_t.z * n.x - sigma_t.x * n.z,
@@ -54,7 +33,7 @@ static double l1_error(const bg_fractal *f, double A, double F, const double p[3
     float h0 = (float)height_at(f, A, F, p), hx = (float)height_at(f, A, F, px), hy = (float)height_at(f, A, F, py);
     bg_vec3 ss = {(float)sx[0], (float)sx[1], (float)sx[2]}, st = {(float)sy[0], (float)sy[1], (float)sy[2]};
     bg_vec3 n = {0, 0, 1};
-    bg_vec3 r = listing1_normal(n, ss, st, hx - h0, hy - h0);
+    bg_vec3 r = bg_listing1_normal(n, ss, st, hx - h0, hy - h0);
     *det = listing1_det(n, ss, st);
     bg_dvec3 g;
     bg_fractal3d_grad(f, F * p[0], F * p[1], F * p[2], &g);
@@ -144,8 +123,9 @@ static bg_status l1_det(st_out *o, const l1_setup *u)
     }
     bg_status rc = bgt_safe_commit(&of, o->e);
     st_json_num(o, "listing1_mean_deg_det0", err_det0);
-    fprintf(o->md, "\nAt det = 0 exactly, sign(det) = 0 and |det| = 0: Listing 1 returns normalize(0), "
-                   "which we count as a 180 degree error (a shader gets NaN).\n");
+    fprintf(o->md, "\nAt det = 0 exactly, HLSL's sign(det) = 0 and |det| = 0 would give normalize(0) "
+                   "(NaN in a shader); bumpgrad's one rule (bg_listing1_normal) keeps the unperturbed "
+                   "normal there, so the error is that of no bump at all.\n");
     return rc;
 }
 
