@@ -40,7 +40,9 @@ typedef enum bg_status {
     BG_ERR_UNSUPPORTED_ISA = 3,  /**< the requested ISA is above what this CPU has */
     BG_ERR_OUT_OF_MEMORY = 4,
     BG_ERR_IO = 5,               /**< file could not be read or written (tools only) */
-    BG_ERR_FORMAT = 6            /**< file contents are malformed (tools only) */
+    BG_ERR_FORMAT = 6,           /**< file contents are malformed (tools only) */
+    BG_ERR_OVERFLOW = 7          /**< parameters whose octave scaling overflows float
+                                      (bg_fractal_validate, bg_height_validate) */
 } bg_status;
 
 /** Human-readable text for a status code; never NULL, static storage. */
