@@ -126,7 +126,7 @@ static void load_module(void)
     const char *env = getenv("BUMPGRAD_IO_MODULE");
     if (env && *env) {
         if (!try_open(env, 0))
-            note("(the path is from $BUMPGRAD_IO_MODULE)", NULL);
+            note("the path came from $BUMPGRAD_IO_MODULE", NULL);
         return;
     }
     char dir[PATH_MAX], cand[PATH_MAX + 256], searched[2048] = "";
@@ -175,9 +175,10 @@ bg_status bg_io_available(char *err, size_t errlen)
 {
     if (ensure_loaded())
         return BG_OK;
+    const char *env = getenv("BUMPGRAD_IO_MODULE");
     if (err && errlen)
-        snprintf(err, errlen, "the I/O module (OpenImageIO, OpenVDB, assimp) cannot be loaded: %s "
-                 "(set BUMPGRAD_IO_MODULE to its path)", load_error);
+        snprintf(err, errlen, "the I/O module (OpenImageIO, OpenVDB, assimp) cannot be loaded: %s%s",
+                 load_error, env && *env ? "" : " (set BUMPGRAD_IO_MODULE to its path)");
     return BG_ERR_IO;
 }
 

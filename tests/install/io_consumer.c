@@ -20,7 +20,7 @@ int main(int argc, char **argv)
         return 2;
     bg_status s = bg_io_available(err, sizeof err);
     if (argc > 2 && strcmp(argv[2], "missing") == 0) {
-        if (s != BG_ERR_IO || !strstr(err, "BUMPGRAD_IO_MODULE")) {
+        if (s != BG_ERR_IO || !strstr(err, "no-such-module.so") || !strstr(err, "BUMPGRAD_IO_MODULE")) {
             printf("FAIL: missing module gave status %d, message '%s'\n", (int)s, err);
             return 1;
         }

@@ -12,7 +12,7 @@ import tempfile
 import numpy as np
 
 import bumpgrad
-import perlin_ref as ref
+import perlin_ref as ref  # examples/perlin_ref.py
 
 failures = 0
 
