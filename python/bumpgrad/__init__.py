@@ -209,7 +209,8 @@ def fractal3d(p, function="fbm", octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0
 def noise3(p, grad=False):
     """Perlin's improved noise (2002) in float32, about [-1, 1].
 
-    p     points, an array of shape (..., 3) or three arrays x, y, z.
+    p     points: an array (or nested list) of shape (..., 3), or a tuple of
+          three arrays (x, y, z) of one shape.
     grad  False: return the values (shape p.shape[:-1]); True: return
           (values, gradients), the analytic gradient (dnoise) from the same pass,
           shaped like p.

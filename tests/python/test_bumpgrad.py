@@ -211,6 +211,9 @@ def test_api(version):
     with contextlib.redirect_stdout(buf):
         help(bumpgrad.noise3)
     check("grad" in buf.getvalue(), "help(bumpgrad.noise3)")
+    import doctest
+    res = doctest.testmod(bumpgrad)
+    check(res.failed == 0 and res.attempted > 0, f"doctests: {res}")
     for name in bumpgrad.__all__:
         obj = getattr(bumpgrad, name)
         if callable(obj) and not isinstance(obj, type):
