@@ -81,6 +81,7 @@ _c._set_error_type(Error)
 
 _FUNCTIONS = {"noise": 0, "fbm": 1, "turbulence": 2}
 _METHODS = {"surfgrad": 0, "additive": 1, "additive-perlin": 2}
+_GRADIENT_MODES = {None: 0, False: 0, "analytic": 1, True: 1, "central": 2}
 _F32 = _np.dtype(_np.float32)
 _F64 = _np.dtype(_np.float64)
 
@@ -166,18 +167,17 @@ def _method(method):
 def _fractal(p, dtype, function, octaves, lacunarity, gain, gradient, step):
     if function not in _FUNCTIONS:
         raise ValueError(f"bumpgrad: function must be one of {sorted(_FUNCTIONS)}")
-    modes = {None: 0, False: 0, "analytic": 1, True: 1, "central": 2}
-    if gradient not in modes:
+    mode = _GRADIENT_MODES.get(gradient)
+    if mode is None:
         raise ValueError("bumpgrad: gradient must be None, 'analytic' or 'central'")
-    mode = modes[gradient]
     (x, y, z), shape, tup = _vectors(p, dtype, "p")
     value = _np.empty(x.shape, dtype)
     if mode == 0:
-        _c.fractal(dtype == _F64, _FUNCTIONS[function], int(octaves), float(lacunarity),
+        _c.fractal(dtype is _F64, _FUNCTIONS[function], int(octaves), float(lacunarity),
                    float(gain), 0, float(step), x, y, z, value, None, None, None)
         return _scalar_result(value, shape)
     block, grad = _vec_out(shape, dtype, tup)
-    _c.fractal(dtype == _F64, _FUNCTIONS[function], int(octaves), float(lacunarity),
+    _c.fractal(dtype is _F64, _FUNCTIONS[function], int(octaves), float(lacunarity),
                float(gain), mode, float(step), x, y, z, value, block[0], block[1], block[2])
     return _scalar_result(value, shape), grad
 
@@ -305,7 +305,7 @@ def _vec_op(op, dtype, names, arrays):
     while len(comps) < 9:
         comps += [comps[0]]
     block, ret = _vec_out(shape, dtype, tup)
-    _c.vec(op, dtype == _F64, *comps, block[0], block[1], block[2])
+    _c.vec(op, dtype is _F64, *comps, block[0], block[1], block[2])
     return ret
 
 
@@ -386,7 +386,7 @@ def _resolve(n, surfgrads, weights, dtype):
         for c, w in zip(grads, weights):
             acc += w * _np.stack(c)
     block, ret = _vec_out(shape, dtype, tup)
-    _c.vec(6, dtype == _F64, nx, ny, nz, acc[0], acc[1], acc[2], nx, ny, nz,
+    _c.vec(6, dtype is _F64, nx, ny, nz, acc[0], acc[1], acc[2], nx, ny, nz,
            block[0], block[1], block[2])
     return ret
 
@@ -443,7 +443,7 @@ def _triplanar(n, k, d_yz, d_xz, d_xy, dtype):
     else:
         ds = [None] * 6
     block, ret = _vec_out(shape, dtype, tup)
-    _c.triplanar(dtype == _F64, float(k), nx, ny, nz, *ds, block[0], block[1], block[2])
+    _c.triplanar(dtype is _F64, float(k), nx, ny, nz, *ds, block[0], block[1], block[2])
     return ret
 
 
