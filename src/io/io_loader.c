@@ -59,12 +59,13 @@ static void note(const char *a, const char *b)
         append(load_error, sizeof load_error, b);
 }
 
-/* dlopen `path` if the file exists; 1 when loaded. A missing file is only noted
+/* dlopen `path` (if only_if_present, only when the file exists); 1 when loaded.
+ * A missing file is only noted
  * by the caller's list of searched places, a present but unloadable one with
  * dlerror (that is the message a user needs: e.g. a missing OpenImageIO). */
-static int try_open(const char *path, int must_exist_to_note)
+static int try_open(const char *path, int only_if_present)
 {
-    if (must_exist_to_note && access(path, F_OK) != 0)
+    if (only_if_present && access(path, F_OK) != 0)
         return 0;
     /* RTLD_LOCAL: the module's OpenImageIO/OpenVDB/assimp symbols stay out of
      * the program's namespace. RTLD_NOW: a broken module fails here, at one
