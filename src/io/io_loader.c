@@ -60,9 +60,9 @@ static void note(const char *a, const char *b)
 }
 
 /* dlopen `path` (if only_if_present, only when the file exists); 1 when loaded.
- * A missing file is only noted
- * by the caller's list of searched places, a present but unloadable one with
- * dlerror (that is the message a user needs: e.g. a missing OpenImageIO). */
+ * A missing file is only noted by the caller's list of searched places, a
+ * present but unloadable one with dlerror (that is the message a user needs:
+ * e.g. a missing OpenImageIO). */
 static int try_open(const char *path, int only_if_present)
 {
     if (only_if_present && access(path, F_OK) != 0)
