@@ -119,6 +119,18 @@ io)
     mv "$libdir/bumpgrad.away" "$libdir/bumpgrad"
     ;;
 relocate)
+    # No installed file may name the build tree or the prefix it was installed
+    # for (docs excepted: INSTALL.md quotes /usr/local). Debug builds are not
+    # checked: their DWARF records the build folder, which is harmless.
+    if [ "${BG_DEBUG:-false}" != true ]; then
+        build_abs=$(cd "$build_dir" && pwd)
+        hits=$(grep -rlF "$build_abs" "$prefix" 2>/dev/null || true)
+        hits2=$(grep -rlF "${installed_prefix#"$dest"}/" "$prefix" --exclude-dir=doc 2>/dev/null || true)
+        if [ -n "$hits$hits2" ]; then
+            echo "FAIL: absolute build or install paths in: $hits $hits2"; exit 1
+        fi
+        echo "no installed file names $build_abs or ${installed_prefix#"$dest"}/"
+    fi
     [ "$tools" = true ] || { echo "relocate: no tools in this build"; exit 77; }
     cd "$work"
     unset BUMPGRAD_IO_MODULE || true
