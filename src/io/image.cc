@@ -20,36 +20,6 @@
 
 using namespace OIIO;
 
-bg_status bg_image_alloc(bg_image *img, int width, int height, int channels)
-{
-    if (!img)
-        return BG_ERR_NULL_POINTER;
-    img->width = img->height = img->channels = 0;
-    img->pixels = nullptr;
-    if (width <= 0 || height <= 0 || channels <= 0 || channels > 64)
-        return BG_ERR_INVALID_ARGUMENT;
-    size_t n = 0;
-    if (!bg_io_mul_size(static_cast<size_t>(width), static_cast<size_t>(height), &n) ||
-        !bg_io_mul_size(n, static_cast<size_t>(channels), &n) ||
-        !bg_io_mul_size(n, sizeof(float), &n))
-        return BG_ERR_OUT_OF_MEMORY;
-    img->pixels = static_cast<float *>(std::calloc(n / sizeof(float), sizeof(float)));
-    if (!img->pixels)
-        return BG_ERR_OUT_OF_MEMORY;
-    img->width = width;
-    img->height = height;
-    img->channels = channels;
-    return BG_OK;
-}
-
-void bg_image_free(bg_image *img)
-{
-    if (!img)
-        return;
-    std::free(img->pixels);
-    img->pixels = nullptr;
-    img->width = img->height = img->channels = 0;
-}
 
 static bg_status read_impl(const char *path, bg_image *out, char *err, size_t errlen)
 {
