@@ -455,13 +455,35 @@ BG_INLINE v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
  * with no NaN caveat. */
 BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v), c); }
 
+/* A last partial vector of one point costs a whole vector (8 or 16 lanes of
+ * work for one result): that point goes to the scalar kernel instead, which
+ * gives the same bits by construction (issue 10: a batch of n < LANES must cost
+ * no more than 1.3x n single calls). BG_VEC_N(n) is the count the vector loop
+ * takes, BG_TAIL1(n) says whether one point is left for bg_kernels_c. */
+#if LANES > 1 && !defined(BG_SCALAR_DOUBLE)
+#define BG_VEC_N(n) ((n) % LANES == 1 ? (n) - 1 : (n))
+#define BG_TAIL1(n) ((n) % LANES == 1)
+#define BG_SCALAR_TAIL 1
+#else
+#define BG_VEC_N(n) (n)
+#define BG_TAIL1(n) 0
+#endif
+/* p + k, or NULL for an optional output that is absent. */
+#define BG_OPT(p, k) ((p) ? (p) + (k) : NULL)
+
 void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
         store_out(v + i, r.v, c);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.noise3(x + t, y + t, z + t, 1, v + t);
+    }
+#endif
 }
 
 BG_INLINE void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *gx,
@@ -477,31 +499,49 @@ BG_INLINE void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *g
 void KFN(noise3_grad)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v,
                       bg_real *gx, bg_real *gy, bg_real *gz)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1);
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.noise3_grad(x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 void KFN(fractal3)(const bg_fractal *f, const bg_real *x, const bg_real *y, const bg_real *z,
                    size_t n, bg_real *v)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
         store_out(v + i, r.v, c);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3(f, x + t, y + t, z + t, 1, v + t);
+    }
+#endif
 }
 
 void KFN(fractal3_grad)(const bg_fractal *f, const bg_real *x, const bg_real *y, const bg_real *z,
                         size_t n, bg_real *v, bg_real *gx, bg_real *gy, bg_real *gz)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1);
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3_grad(f, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 void KFN(fractal3_grad_central)(const bg_fractal *f, bg_real h, const bg_real *x,
@@ -509,12 +549,18 @@ void KFN(fractal3_grad_central)(const bg_fractal *f, bg_real h, const bg_real *x
                                 bg_real *gx, bg_real *gy, bg_real *gz)
 {
     vf hv = vf_set1(h);
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_central_vec(f, hv, vf_loadn(x + i, c), vf_loadn(y + i, c),
                                        vf_loadn(z + i, c));
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3_grad_central(f, h, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, const bg_real *nz,
@@ -538,12 +584,18 @@ void KFN(fractal3_grad_fp)(const bg_fractal *f, const bg_real *fp, const bg_real
                            const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
                            bg_real *gy, bg_real *gz)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_fp_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1,
                                   1, vf_loadn(fp + i, c));
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3_grad_fp(f, fp + t, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 /* Fused height -> normal: h(p) = A F(f p), grad h = A f F'(f p), then eq. 4.
@@ -559,7 +611,7 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
     vf af = vf_set1(h->amplitude * h->frequency);
     vf step = vf_set1(h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP);
     int central = !fp && h->gradient == BG_GRADIENT_CENTRAL;
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         vf qx = vf_mul(vf_loadn(px + i, c), freq);
         vf qy = vf_mul(vf_loadn(py + i, c), freq);
@@ -577,6 +629,17 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
         store_out(oy + i, o.y, c);
         store_out(oz + i, o.z, c);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        if (fp)
+            bg_kernels_c.perturb_height_fp(h, m, fp + t, px + t, py + t, pz + t, nx + t, ny + t,
+                                           nz + t, 1, BG_OPT(height, t), ox + t, oy + t, oz + t);
+        else
+            bg_kernels_c.perturb_height(h, m, px + t, py + t, pz + t, nx + t, ny + t, nz + t, 1,
+                                        BG_OPT(height, t), ox + t, oy + t, oz + t);
+    }
+#endif
 }
 
 void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,

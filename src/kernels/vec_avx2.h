@@ -23,16 +23,24 @@ typedef __m256i vi;
 typedef __m256 vm; /* all-ones / all-zeros lanes */
 
 static inline vf vf_set1(float a) { return _mm256_set1_ps(a); }
-/* Partial tails go through a zeroed stack copy: never touch p[c..LANES). (A
- * vmaskmovps load would also not fault, but the copy is as fast for one tail per
- * call and has no AMD/Intel masked-store penalty to think about.) */
+/* Partial tails by vmaskmovps: masked-off lanes are neither read nor written
+ * (no fault past the end of an array), and loaded as +0. A call of a few
+ * points then costs no stack copy and no memcpy call (issue 10 item 4). */
+static inline __m256i bg_tail_mask(size_t c)
+{
+    return _mm256_cmpgt_epi32(_mm256_set1_epi32((int)c), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
 static inline vf vf_loadn(const float *p, size_t c)
 {
     if (c == LANES)
         return _mm256_loadu_ps(p);
+#ifdef BG_TAIL_COPY
     float t[LANES] = {0};
     memcpy(t, p, c * sizeof(float));
     return _mm256_loadu_ps(t);
+#else
+    return _mm256_maskload_ps(p, bg_tail_mask(c));
+#endif
 }
 static inline void vf_storen(float *p, vf v, size_t c)
 {
@@ -40,9 +48,13 @@ static inline void vf_storen(float *p, vf v, size_t c)
         _mm256_storeu_ps(p, v);
         return;
     }
+#ifdef BG_TAIL_COPY
     float t[LANES];
     _mm256_storeu_ps(t, v);
     memcpy(p, t, c * sizeof(float));
+#else
+    _mm256_maskstore_ps(p, bg_tail_mask(c), v);
+#endif
 }
 static inline vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
 static inline vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
