@@ -659,6 +659,36 @@ void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real 
 }
 #endif
 
+/* ---- Single points (scalar float only) ---------------------------------------
+ * The per-point entry points of noise.h call these directly: no table load, no
+ * batch loop, arguments and result in registers. The same noise_vec /
+ * fractal_vec as the batch kernels, so the same bits. */
+#if LANES == 1 && !defined(BG_SCALAR_DOUBLE)
+float bg_noise3_point_c(float x, float y, float z)
+{
+    return vf_canon(noise_vec(x, y, z, 0).v);
+}
+
+float bg_noise3_grad_point_c(float x, float y, float z, float g[3])
+{
+    corner r = noise_vec(x, y, z, 1);
+    g[0] = vf_canon(r.gx), g[1] = vf_canon(r.gy), g[2] = vf_canon(r.gz);
+    return vf_canon(r.v);
+}
+
+float bg_fractal3_point_c(const bg_fractal *f, float x, float y, float z)
+{
+    return vf_canon(fractal_vec(f, x, y, z, 0).v);
+}
+
+float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, float g[3])
+{
+    corner r = fractal_vec(f, x, y, z, 1);
+    g[0] = vf_canon(r.gx), g[1] = vf_canon(r.gy), g[2] = vf_canon(r.gz);
+    return vf_canon(r.v);
+}
+#endif
+
 /* ---- This ISA's kernel table ---------------------------------------------- */
 #define BG_STR2(a) #a
 #define BG_STR(a) BG_STR2(a)
