@@ -481,7 +481,7 @@ void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n,
 #ifdef BG_SCALAR_TAIL
     if (BG_TAIL1(n)) {
         size_t t = n - 1;
-        bg_kernels_c.noise3(x + t, y + t, z + t, 1, v + t);
+        v[t] = bg_noise3_point_c(x[t], y[t], z[t]);
     }
 #endif
 }
@@ -523,7 +523,7 @@ void KFN(fractal3)(const bg_fractal *f, const bg_real *x, const bg_real *y, cons
 #ifdef BG_SCALAR_TAIL
     if (BG_TAIL1(n)) {
         size_t t = n - 1;
-        bg_kernels_c.fractal3(f, x + t, y + t, z + t, 1, v + t);
+        v[t] = bg_fractal3_point_c(f, x[t], y[t], z[t]);
     }
 #endif
 }
