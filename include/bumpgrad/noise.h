@@ -17,7 +17,8 @@
  * part is 0) and the noise along it is piecewise constant at 1e5 and exactly
  * on lattice planes from 2^23 (about 8.4e6) up. See docs/STABILITY.md.
  *
- * NaN or Inf in any coordinate gives NaN value and NaN gradient.
+ * NaN or Inf in any coordinate gives NaN value and NaN gradient (the canonical
+ * quiet NaN, +qNaN: the same bits from every ISA and entry point).
  *
  * All functions are reentrant and thread-safe (no state besides constant tables).
  */
