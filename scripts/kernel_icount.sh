@@ -1,19 +1,49 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# Instructions per sample of each benchmark case of checkkernels on the ISAs that
-# valgrind can run (no AVX-512: see scripts/kernel_loop_size.py for those):
-# (Ir(n=4096) - Ir(n=0)) / 4096 with callgrind.
-#   scripts/kernel_icount.sh build-simd/tests/kernels/checkkernels "c sse2 avx2"
-exe=${1:-build-simd/tests/kernels/checkkernels}
-isas=${2:-"c sse2 avx2"}
+# Instruction counts per sample with callgrind (valgrind), which do not depend on
+# the load of a shared machine. Valgrind runs SSE2 and AVX2 but not AVX-512 (see
+# scripts/kernel_loop_size.py for those).
+#
+#   scripts/kernel_icount.sh [CHECKKERNELS] ["c sse2 avx2"]
+#       each benchmark case of checkkernels: (Ir(n=4096) - Ir(n=0)) / 4096.
+#   scripts/kernel_icount.sh --bench BUMPGRAD ["c sse2 avx2"] [KERNELS] [SAMPLES]
+#       each row of `bumpgrad bench` (one thread): (Ir(--runs 3) - Ir(--runs 1)) /
+#       (2 SAMPLES), so data set-up and warm-up cancel. Prints "<kernel> <isa>
+#       <instructions>" lines, the format of `bumpgrad bench --icount FILE`.
+#       KERNELS defaults to every row of ours and stb_perlin's peers.
+#   e.g. scripts/kernel_icount.sh --bench build/src/cli/bumpgrad > icount.txt
+#        build/src/cli/bumpgrad bench --json --icount icount.txt
 ir() {
-    valgrind --tool=callgrind --callgrind-out-file=/dev/null "$exe" --run="$1" 2>&1 |
+    valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 |
         sed -n 's/.*Collected : \([0-9]*\).*/\1/p'
 }
+if [ "$1" = "--bench" ]; then
+    exe=$2
+    isas=${3:-"scalar sse2 avx2"}
+    kernels=${4:-"noise3 noise3_grad fbm3 fbm3_grad turbulence3_grad noise3_point noise3_grad_point fbm3_point fbm3_grad_point noise3_n1 noise3_n4 noise3_n8 noise3_n16 noise3_n64 noise3_n256"}
+    n=${5:-16384}
+    for k in $kernels; do
+        for isa in $isas; do
+            case $k in *_point) [ "$isa" = scalar ] || continue ;; esac
+            a=$(ir "$exe" bench --threads 1 --isa "$isa" --kernels "$k" --samples "$n" --runs 1)
+            b=$(ir "$exe" bench --threads 1 --isa "$isa" --kernels "$k" --samples "$n" --runs 3)
+            echo "$k $isa $(( (b - a) / (2 * n) ))"
+        done
+    done
+    for op in value fbm grad_central; do
+        k=peer:stb_perlin:$op
+        a=$(ir "$exe" bench --threads 1 --isa scalar --kernels "$k" --samples "$n" --runs 1)
+        b=$(ir "$exe" bench --threads 1 --isa scalar --kernels "$k" --samples "$n" --runs 3)
+        echo "$k baseline $(( (b - a) / (2 * n) ))"
+    done
+    exit 0
+fi
+exe=${1:-build-simd/tests/kernels/checkkernels}
+isas=${2:-"c sse2 avx2"}
 for c in 0 1 2 3 5 6; do
     for isa in $isas; do
-        a=$(ir "$isa:$c:0")
-        b=$(ir "$isa:$c:4096")
+        a=$(ir "$exe" --run="$isa:$c:0")
+        b=$(ir "$exe" --run="$isa:$c:4096")
         echo "case $c $isa $(( (b - a) / 4096 )) instructions/sample"
     done
 done

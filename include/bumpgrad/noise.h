@@ -17,7 +17,8 @@
  * part is 0) and the noise along it is piecewise constant at 1e5 and exactly
  * on lattice planes from 2^23 (about 8.4e6) up. See docs/STABILITY.md.
  *
- * NaN or Inf in any coordinate gives NaN value and NaN gradient (the NaN rule).
+ * NaN or Inf in any coordinate gives NaN value and NaN gradient (the canonical
+ * quiet NaN, +qNaN: the same bits from every ISA and entry point).
  * So does a finite coordinate whose octave scaling overflows: octave i samples
  * at lacunarity^i * p, which is Inf once |p| > bg_fractal_max_coordinate()
  * (docs/STABILITY.md, "Octave overflow").

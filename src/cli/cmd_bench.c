@@ -49,8 +49,29 @@ enum {
     K_PERTURB_SURFGRAD,
     K_PERTURB_ADDITIVE,
     K_PERTURB_HEIGHT,
+    K_FBM3,
+    /* Per-point entry points (always the scalar kernel: measured once, as "scalar"). */
+    K_NOISE3_POINT,
+    K_NOISE3_GRAD_POINT,
+    K_FBM3_POINT,
+    K_FBM3_GRAD_POINT,
+    /* noise3 batch calls of a few points each (the batch kernel on each ISA). */
+    K_NOISE3_N1,
+    K_NOISE3_N4,
+    K_NOISE3_N8,
+    K_NOISE3_N16,
+    K_NOISE3_N64,
+    K_NOISE3_N256,
     K_COUNT
 };
+
+/* Points per call of the K_NOISE3_N* rows. */
+static size_t chunk_of(int k)
+{
+    static const size_t c[] = {1, 4, 8, 16, 64, 256};
+    return k >= K_NOISE3_N1 && k <= K_NOISE3_N256 ? c[k - K_NOISE3_N1] : 0;
+}
+static int is_point(int k) { return k >= K_NOISE3_POINT && k <= K_FBM3_GRAD_POINT; }
 
 typedef struct kernel_info {
     const char *name;
@@ -71,6 +92,17 @@ static const kernel_info kernels[K_COUNT] = {
     {"perturb_surfgrad", -1, "normalize(n - (g - n(n.g))), Listing 3, SoA"},
     {"perturb_additive", -1, "normalize(n - g), SoA"},
     {"perturb_height", -1, "fused 6-octave turbulence gradient -> surfgrad normal"},
+    {"fbm3", CLI_PEER_FBM, "6-octave fBm value"},
+    {"noise3_point", CLI_PEER_VALUE, "bg_noise3, one call per point"},
+    {"noise3_grad_point", CLI_PEER_GRAD_CENTRAL, "bg_noise3_grad, one call per point"},
+    {"fbm3_point", CLI_PEER_FBM, "bg_fractal3 6-octave fBm, one call per point"},
+    {"fbm3_grad_point", CLI_PEER_FBM, "bg_fractal3_grad 6-octave fBm, one call per point"},
+    {"noise3_n1", CLI_PEER_VALUE, "noise3 batch calls of 1 point"},
+    {"noise3_n4", CLI_PEER_VALUE, "noise3 batch calls of 4 points"},
+    {"noise3_n8", CLI_PEER_VALUE, "noise3 batch calls of 8 points"},
+    {"noise3_n16", CLI_PEER_VALUE, "noise3 batch calls of 16 points"},
+    {"noise3_n64", CLI_PEER_VALUE, "noise3 batch calls of 64 points"},
+    {"noise3_n256", CLI_PEER_VALUE, "noise3 batch calls of 256 points"},
 };
 
 static const char *const peer_op_names[] = {"value", "fbm", "grad_central"};
@@ -107,7 +139,35 @@ static void job_run(const bench_job *j, size_t b, size_t e)
         return;
     }
     const bg_kernel_table *t = j->t;
+    size_t chunk = chunk_of(j->kernel);
+    if (chunk) {
+        for (size_t i = b; i < e; i += chunk)
+            t->noise3(d->px + i, d->py + i, d->pz + i, e - i < chunk ? e - i : chunk, d->v + i);
+        return;
+    }
+    bg_vec3 g;
     switch (j->kernel) {
+    case K_FBM3: t->fractal3(&j->fbm, d->px + b, d->py + b, d->pz + b, n, d->v + b); break;
+    case K_NOISE3_POINT:
+        for (size_t i = b; i < e; i++)
+            d->v[i] = bg_noise3(d->px[i], d->py[i], d->pz[i]);
+        break;
+    case K_NOISE3_GRAD_POINT:
+        for (size_t i = b; i < e; i++) {
+            d->v[i] = bg_noise3_grad(d->px[i], d->py[i], d->pz[i], &g);
+            d->ox[i] = g.x, d->oy[i] = g.y, d->oz[i] = g.z;
+        }
+        break;
+    case K_FBM3_POINT:
+        for (size_t i = b; i < e; i++)
+            d->v[i] = bg_fractal3(&j->fbm, d->px[i], d->py[i], d->pz[i]);
+        break;
+    case K_FBM3_GRAD_POINT:
+        for (size_t i = b; i < e; i++) {
+            d->v[i] = bg_fractal3_grad(&j->fbm, d->px[i], d->py[i], d->pz[i], &g);
+            d->ox[i] = g.x, d->oy[i] = g.y, d->oz[i] = g.z;
+        }
+        break;
     case K_NOISE3: t->noise3(d->px + b, d->py + b, d->pz + b, n, d->v + b); break;
     case K_NOISE3_GRAD:
         t->noise3_grad(d->px + b, d->py + b, d->pz + b, n, d->v + b, d->ox + b, d->oy + b,
@@ -276,6 +336,9 @@ typedef struct bench_row {
      * about 1 on a quiet machine, 0.5 when another job took half the cores. The
      * workers of an idle team sleep in the barrier and use none. */
     double cpu_share;
+    /* Instructions per sample from --icount FILE (scripts/kernel_icount.sh
+     * --bench, callgrind: load-independent), 0 if not given. */
+    double icount;
 } bench_row;
 
 static int cmp_double(const void *a, const void *b)
@@ -518,6 +581,7 @@ static void print_json(FILE *fp, const bench_row *rows, size_t nrows, size_t sam
         json_number(fp, "speedup_vs_scalar", x.speedup);
         json_number(fp, "thread_scaling", x.scaling);
         json_number(fp, "vs_best_peer", x.vs_peer);
+        json_number(fp, "instructions_per_sample", r->icount);
         if (x.peer)
             fprintf(fp, ", \"best_peer\": \"%s\"", x.peer);
         else
@@ -580,6 +644,24 @@ static double load_average(void)
     return la;
 }
 
+/* --icount FILE: "<kernel> <isa> <instructions per sample>" per line; rows
+ * not listed keep null. */
+static int read_icounts(const char *path, bench_row *rows, size_t nrows)
+{
+    FILE *fp = fopen(path, "r");
+    if (!fp)
+        return -1;
+    char name[64], isa[32];
+    double v;
+    while (fscanf(fp, "%63s %31s %lf", name, isa, &v) == 3)
+        for (size_t i = 0; i < nrows; i++)
+            if (strcmp(rows[i].name, name) == 0 && strcmp(rows[i].isa, isa) == 0)
+                rows[i].icount = v;
+    int bad = ferror(fp) || !feof(fp);
+    fclose(fp);
+    return bad ? -1 : 0;
+}
+
 /* ---- command ------------------------------------------------------------------ */
 
 static void usage(FILE *fp)
@@ -597,7 +679,8 @@ static void usage(FILE *fp)
           "  --json          one JSON array on stdout, one record per line, with the keys\n"
           "                  kernel, isa, threads, samples, runs, msamples_per_s (median),\n"
           "                  ns_per_sample, min, max (M samples/s), cpu_share, speedup_vs_scalar,\n"
-          "                  thread_scaling, vs_best_peer, best_peer (null when n/a);\n"
+          "                  thread_scaling, vs_best_peer, best_peer,\n"
+          "                  instructions_per_sample (null when n/a);\n"
           "                  peers have isa \"baseline\" (the build's default target)\n"
           "  --threads N     also measure with N threads (default: all cores; 1: one thread only)\n"
           "  --isa ISA       only this ISA: scalar, sse2, avx2, avx512, neon (default: all\n"
@@ -606,9 +689,15 @@ static void usage(FILE *fp)
           "  --runs R        timed runs per row (default 7; --quick 5)\n"
           "  --kernels LIST  comma-separated subset (default all): noise3, noise3_grad,\n"
           "                  fbm3_grad, turbulence3_grad, turbulence3_grad_central,\n"
-          "                  perturb_surfgrad, perturb_additive, perturb_height, ours, peers,\n"
+          "                  perturb_surfgrad, perturb_additive, perturb_height, fbm3,\n"
+          "                  noise3_point, noise3_grad_point, fbm3_point, fbm3_grad_point\n"
+          "                  (per-point calls, scalar kernel), noise3_n1, noise3_n4,\n"
+          "                  noise3_n8, noise3_n16, noise3_n64, noise3_n256 (batch calls\n"
+          "                  of that many points), ours, peers,\n"
           "                  peer:<library>, peer:<library>:<value|fbm|grad_central>\n"
           "                  (libraries: stb_perlin, libnoise, glm)\n"
+          "  --icount FILE   instructions per sample to put in the JSON, lines of\n"
+          "                  \"<kernel> <isa> <instructions>\" (scripts/kernel_icount.sh --bench)\n"
           "  --quick         2^18 points and 5 runs (the meson benchmark); a full run with the\n"
           "                  defaults takes minutes, mostly in the scalar rows\n"
           "  -h, --help      this text\n",
@@ -648,7 +737,7 @@ int cmd_bench(int argc, char **argv)
 {
     int json = 0, quick = 0;
     long threads = -1, samples = -1, runs = -1;
-    const char *isa_text = NULL, *kernels_text = "all";
+    const char *isa_text = NULL, *kernels_text = "all", *icount_path = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *val = NULL;
         int rc = 0;
@@ -672,6 +761,8 @@ int cmd_bench(int argc, char **argv)
             rc = cli_need_value(BENCH_CMD, argc, argv, &i, &isa_text);
         } else if (strcmp(a, "--kernels") == 0) {
             rc = cli_need_value(BENCH_CMD, argc, argv, &i, &kernels_text);
+        } else if (strcmp(a, "--icount") == 0) {
+            rc = cli_need_value(BENCH_CMD, argc, argv, &i, &icount_path);
         } else {
             return cli_usage_error(BENCH_CMD, "unknown argument '%s' (see bumpgrad bench --help)",
                                    a);
@@ -767,7 +858,7 @@ int cmd_bench(int argc, char **argv)
         if (!sel.ours[k])
             continue;
         for (int isa = 0; isa < BG_ISA_COUNT; isa++) {
-            if (!isa_on[isa])
+            if (!isa_on[isa] || (is_point(k) && isa != BG_ISA_SCALAR))
                 continue;
             job.t = bg_kernels_for((bg_isa)isa);
             job.kernel = k;
@@ -787,6 +878,12 @@ int cmd_bench(int argc, char **argv)
     if (show)
         fprintf(stderr, "\r%70s\r", "");
     team_stop(&team);
+    if (icount_path && read_icounts(icount_path, rows, nrows) != 0) {
+        data_free(&d);
+        free(rows);
+        free(rate);
+        return cli_fail(BENCH_CMD, "--icount %s: cannot read it", icount_path);
+    }
 
     if (json) {
         print_json(stdout, rows, nrows, n, nruns);

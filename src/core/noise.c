@@ -116,17 +116,17 @@ double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
     return p;
 }
 
+/* Per-point calls go straight to the scalar point functions (kernels.h): the
+ * same bits as the n = 1 batch, without its table load and loop (issue 10). */
 float bg_noise3(float x, float y, float z)
 {
-    float v;
-    bg_kernels_c.noise3(&x, &y, &z, 1, &v);
-    return v;
+    return bg_noise3_point_c(x, y, z);
 }
 
 float bg_noise3_grad(float x, float y, float z, bg_vec3 *grad)
 {
-    float v;
-    bg_kernels_c.noise3_grad(&x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
+    float g[3], v = bg_noise3_grad_point_c(x, y, z, g);
+    grad->x = g[0], grad->y = g[1], grad->z = g[2];
     return v;
 }
 
@@ -145,15 +145,13 @@ double bg_noise3d_grad(double x, double y, double z, bg_dvec3 *grad)
 
 float bg_fractal3(const bg_fractal *f, float x, float y, float z)
 {
-    float v;
-    bg_kernels_c.fractal3(f, &x, &y, &z, 1, &v);
-    return v;
+    return bg_fractal3_point_c(f, x, y, z);
 }
 
 float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *grad)
 {
-    float v;
-    bg_kernels_c.fractal3_grad(f, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
+    float g[3], v = bg_fractal3_grad_point_c(f, x, y, z, g);
+    grad->x = g[0], grad->y = g[1], grad->z = g[2];
     return v;
 }
 

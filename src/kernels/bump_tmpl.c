@@ -32,31 +32,97 @@ BG_INLINE vf dfade(vf t)
 }
 
 /* One corner: the value grad(hash, dx, dy, dz) of the reference and, for the
- * analytic gradient, the corner's gradient vector. The reference picks
- * u = h<8 ? x : y, v = h<4 ? y : (h==12||h==14 ? x : z) and returns +-u +-v; the
- * two picked axes always differ, so the vector has two components +-1 and one 0,
- * and gx*dx + gy*dy + gz*dz is the reference sum (the zero term adds +-0). */
+ * analytic gradient, the corner's gradient vector. The reference (Perlin 2002):
+ *     u = h<8 ? x : y;  v = h<4 ? y : (h==12||h==14 ? x : z);
+ *     return ((h&1) == 0 ? u : -u) + ((h&2) == 0 ? v : -v);
+ * computed here with the same selects and the same single addition, the
+ * negations as sign-bit flips from hash bits 0 and 1, so the value is the
+ * reference's bit for bit, sign of zero included (at a lattice point of corner
+ * hash 11, -y - z = (-0) + (-0) = -0). The two picked axes always differ, so the
+ * gradient vector has two components +-1 (the signs of u and v) and one +0. */
 typedef struct corner {
     vf v, gx, gy, gz;
 } corner;
 
-/* The three gradient components of each hash & 15, tabulated from the selects
- * above (so +-1 and +0, exactly what the selects produced): vf_lut16 is one
- * in-register permute on AVX-512 (vpermps ignores the index bits above 3) and
- * two on AVX2, instead of a dozen compares and blends. */
+#ifdef BG_GRAD_BY_TABLE
+/* One lane: table lookups by h & 15 beat the branches a scalar compiler makes
+ * of the selects. The gradient vector is tabulated from the selects (+-1 and
+ * +0). The value is the dot product gx dx + gy dy + gz dz with the unused
+ * component's zero signed so that its product is -0: -0 + a == a for every a,
+ * zeros included, so the sum is (+-u) + (+-v) exactly, the reference's bits.
+ * The fraction d is >= +0 on the corner's low side (x - floor(x), never -0) and
+ * < 0 on its high side (x - floor(x) - 1), so the zero is -0 (-0 * d = -0) for
+ * a low-side offset and +0 (+0 * d = -0) for a high-side one: `hi` picks. */
 static const bg_real grad_tab_x[16] = {1, -1, 1, -1, 1, -1, 1, -1, 0, 0, 0, 0, 1, 0, -1, 0};
 static const bg_real grad_tab_y[16] = {1, 1, -1, -1, 0, 0, 0, 0, 1, -1, 1, -1, 1, -1, 1, -1};
 static const bg_real grad_tab_z[16] = {0, 0, 0, 0, 1, 1, -1, -1, 1, 1, -1, -1, 0, 1, 0, -1};
+#define NZ (-(bg_real)0)
+static const bg_real grad_lo_x[16] = {1, -1, 1, -1, 1, -1, 1, -1, NZ, NZ, NZ, NZ, 1, NZ, -1, NZ};
+static const bg_real grad_lo_y[16] = {1, 1, -1, -1, NZ, NZ, NZ, NZ, 1, -1, 1, -1, 1, -1, 1, -1};
+static const bg_real grad_lo_z[16] = {NZ, NZ, NZ, NZ, 1, 1, -1, -1, 1, 1, -1, -1, NZ, 1, NZ, -1};
+#undef NZ
 
-BG_INLINE corner grad_corner(vi hash, vf dx, vf dy, vf dz)
+BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, int ck)
+{
+    int h = hash & 15;
+    vf gx = (ck & 1 ? grad_tab_x : grad_lo_x)[h];
+    vf gy = (ck & 2 ? grad_tab_y : grad_lo_y)[h];
+    vf gz = (ck & 4 ? grad_tab_z : grad_lo_z)[h];
+    return vf_add(vf_add(vf_mul(gx, dx), vf_mul(gy, dy)), vf_mul(gz, dz));
+}
+
+BG_INLINE corner grad_corner_v(vi hash, vf dx, vf dy, vf dz, int ck)
 {
     corner c;
-    c.gx = vf_lut16(grad_tab_x, hash);
-    c.gy = vf_lut16(grad_tab_y, hash);
-    c.gz = vf_lut16(grad_tab_z, hash);
-    c.v = vf_add(vf_add(vf_mul(c.gx, dx), vf_mul(c.gy, dy)), vf_mul(c.gz, dz));
+    c.v = grad_value(hash, dx, dy, dz, ck);
+    c.gx = c.gy = c.gz = 0;
     return c;
 }
+
+BG_INLINE corner grad_corner(vi hash, vf dx, vf dy, vf dz, int ck)
+{
+    corner c;
+    c.v = grad_value(hash, dx, dy, dz, ck);
+    c.gx = grad_tab_x[hash & 15], c.gy = grad_tab_y[hash & 15], c.gz = grad_tab_z[hash & 15];
+    return c;
+}
+#else
+/* The corner masks shared by the value and the gradient: bit 3 (h >= 8: u = y),
+ * h & 12 == 0 (h < 4: v = y) and h & 13 == 12 (h is 12 or 14: v = x). */
+BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, vm lt4, vm x1214)
+{
+    vf u = vf_sel_bit(hash, 3, dy, dx);
+    vf v = vf_sel(lt4, dy, vf_sel(x1214, dx, dz));
+    return vf_add(vf_flip_bit(u, hash, 0), vf_flip_bit(v, hash, 1));
+}
+
+BG_INLINE corner grad_corner_v(vi hash, vf dx, vf dy, vf dz, int ck)
+{
+    corner c;
+    (void)ck;
+    vm lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
+    vm x1214 = vi_eq(vi_and(hash, vi_set1(13)), vi_set1(12));
+    c.v = grad_value(hash, dx, dy, dz, lt4, x1214);
+    c.gx = c.gy = c.gz = vf_set1(0);
+    return c;
+}
+
+BG_INLINE corner grad_corner(vi hash, vf dx, vf dy, vf dz, int ck)
+{
+    corner c;
+    (void)ck;
+    vm lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
+    vm x1214 = vi_eq(vi_and(hash, vi_set1(13)), vi_set1(12));
+    c.v = grad_value(hash, dx, dy, dz, lt4, x1214);
+    /* d/dx etc. of the value: +-1 on the u and v axes, +0 on the third. */
+    vf zero = vf_set1(0);
+    vf su = vf_flip_bit(vf_set1(1), hash, 0), sv = vf_flip_bit(vf_set1(1), hash, 1);
+    c.gx = vf_sel_bit(hash, 3, vf_sel(x1214, sv, zero), su);
+    c.gy = vf_sel_bit(hash, 3, su, vf_sel(lt4, sv, zero));
+    c.gz = vf_sel(vm_or(lt4, x1214), zero, sv);
+    return c;
+}
+#endif
 
 /* lerp(t, a, b) = a + t (b - a), the reference's form, carried with its gradient:
  * t depends on one axis only (dt along that axis). */
@@ -148,14 +214,14 @@ BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
     vi h[8];
     vi_hash8(X, Y, Z, h);
     if (!want_grad) {
-        corner c000 = grad_corner(h[0], fx, fy, fz);
-        corner c100 = grad_corner(h[1], x1, fy, fz);
-        corner c010 = grad_corner(h[2], fx, y1, fz);
-        corner c110 = grad_corner(h[3], x1, y1, fz);
-        corner c001 = grad_corner(h[4], fx, fy, z1);
-        corner c101 = grad_corner(h[5], x1, fy, z1);
-        corner c011 = grad_corner(h[6], fx, y1, z1);
-        corner c111 = grad_corner(h[7], x1, y1, z1);
+        corner c000 = grad_corner_v(h[0], fx, fy, fz, 0);
+        corner c100 = grad_corner_v(h[1], x1, fy, fz, 1);
+        corner c010 = grad_corner_v(h[2], fx, y1, fz, 2);
+        corner c110 = grad_corner_v(h[3], x1, y1, fz, 3);
+        corner c001 = grad_corner_v(h[4], fx, fy, z1, 4);
+        corner c101 = grad_corner_v(h[5], x1, fy, z1, 5);
+        corner c011 = grad_corner_v(h[6], fx, y1, z1, 6);
+        corner c111 = grad_corner_v(h[7], x1, y1, z1, 7);
         /* lerp(w, lerp(v, lerp(u, ..), lerp(u, ..)), lerp(v, ..)) exactly as the reference. */
         corner r;
         vf a0 = vf_add(c000.v, vf_mul(u, vf_sub(c100.v, c000.v)));
@@ -173,11 +239,11 @@ BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
      * all eight): 8 corners x 4 vectors live at once do not fit the 32 AVX-512
      * registers next to the rest and were spilled to the stack. */
     vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
-    corner a0 = lerp_x(u, du, grad_corner(h[0], fx, fy, fz), grad_corner(h[1], x1, fy, fz));
-    corner a1 = lerp_x(u, du, grad_corner(h[2], fx, y1, fz), grad_corner(h[3], x1, y1, fz));
+    corner a0 = lerp_x(u, du, grad_corner(h[0], fx, fy, fz, 0), grad_corner(h[1], x1, fy, fz, 1));
+    corner a1 = lerp_x(u, du, grad_corner(h[2], fx, y1, fz, 2), grad_corner(h[3], x1, y1, fz, 3));
     corner b0 = lerp_y(v, dv, a0, a1);
-    corner a2 = lerp_x(u, du, grad_corner(h[4], fx, fy, z1), grad_corner(h[5], x1, fy, z1));
-    corner a3 = lerp_x(u, du, grad_corner(h[6], fx, y1, z1), grad_corner(h[7], x1, y1, z1));
+    corner a2 = lerp_x(u, du, grad_corner(h[4], fx, fy, z1, 4), grad_corner(h[5], x1, fy, z1, 5));
+    corner a3 = lerp_x(u, du, grad_corner(h[6], fx, y1, z1, 6), grad_corner(h[7], x1, y1, z1, 7));
     corner b1 = lerp_y(v, dv, a2, a3);
     return lerp_z(w, dw, b0, b1);
 }
@@ -383,53 +449,99 @@ BG_INLINE v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
 #define BG_FOR_BATCH(i, c, n) \
     for (size_t i = 0, c; i < (n) && ((c = ((n) - i < LANES ? (n) - i : LANES)), 1); i += LANES)
 
+/* Every output goes through vf_canon: a NaN result is the one canonical quiet
+ * NaN on every ISA (x86 arithmetic makes the "default NaN" with the sign bit
+ * set, scalar code may keep an input's payload), so outputs compare bit for bit
+ * with no NaN caveat. */
+BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v), c); }
+
+/* A last partial vector of one point costs a whole vector (8 or 16 lanes of
+ * work for one result): that point goes to the scalar kernel instead, which
+ * gives the same bits by construction (issue 10: a batch of n < LANES must cost
+ * no more than 1.3x n single calls). BG_VEC_N(n) is the count the vector loop
+ * takes, BG_TAIL1(n) says whether one point is left for bg_kernels_c. */
+#if LANES > 1 && !defined(BG_SCALAR_DOUBLE)
+#define BG_VEC_N(n) ((n) % LANES == 1 ? (n) - 1 : (n))
+#define BG_TAIL1(n) ((n) % LANES == 1)
+#define BG_SCALAR_TAIL 1
+#else
+#define BG_VEC_N(n) (n)
+#define BG_TAIL1(n) 0
+#endif
+/* p + k, or NULL for an optional output that is absent. */
+#define BG_OPT(p, k) ((p) ? (p) + (k) : NULL)
+
 void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
-        vf_storen(v + i, r.v, c);
+        store_out(v + i, r.v, c);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        v[t] = bg_noise3_point_c(x[t], y[t], z[t]);
+    }
+#endif
 }
 
 BG_INLINE void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *gx,
                                 bg_real *gy, bg_real *gz)
 {
     if (v)
-        vf_storen(v + i, r.v, c);
-    vf_storen(gx + i, r.gx, c);
-    vf_storen(gy + i, r.gy, c);
-    vf_storen(gz + i, r.gz, c);
+        store_out(v + i, r.v, c);
+    store_out(gx + i, r.gx, c);
+    store_out(gy + i, r.gy, c);
+    store_out(gz + i, r.gz, c);
 }
 
 void KFN(noise3_grad)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v,
                       bg_real *gx, bg_real *gy, bg_real *gz)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1);
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.noise3_grad(x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 void KFN(fractal3)(const bg_fractal *f, const bg_real *x, const bg_real *y, const bg_real *z,
                    size_t n, bg_real *v)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
-        vf_storen(v + i, r.v, c);
+        store_out(v + i, r.v, c);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        v[t] = bg_fractal3_point_c(f, x[t], y[t], z[t]);
+    }
+#endif
 }
 
 void KFN(fractal3_grad)(const bg_fractal *f, const bg_real *x, const bg_real *y, const bg_real *z,
                         size_t n, bg_real *v, bg_real *gx, bg_real *gy, bg_real *gz)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1);
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3_grad(f, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 void KFN(fractal3_grad_central)(const bg_fractal *f, bg_real h, const bg_real *x,
@@ -437,12 +549,18 @@ void KFN(fractal3_grad_central)(const bg_fractal *f, bg_real h, const bg_real *x
                                 bg_real *gx, bg_real *gy, bg_real *gz)
 {
     vf hv = vf_set1(h);
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_central_vec(f, hv, vf_loadn(x + i, c), vf_loadn(y + i, c),
                                        vf_loadn(z + i, c));
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3_grad_central(f, h, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, const bg_real *nz,
@@ -454,9 +572,9 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
         v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
         v3 gg = {vf_loadn(gx + i, c), vf_loadn(gy + i, c), vf_loadn(gz + i, c)};
         v3 r = perturb_vec(m, nn, gg);
-        vf_storen(ox + i, r.x, c);
-        vf_storen(oy + i, r.y, c);
-        vf_storen(oz + i, r.z, c);
+        store_out(ox + i, r.x, c);
+        store_out(oy + i, r.y, c);
+        store_out(oz + i, r.z, c);
     }
 }
 
@@ -466,12 +584,18 @@ void KFN(fractal3_grad_fp)(const bg_fractal *f, const bg_real *fp, const bg_real
                            const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
                            bg_real *gy, bg_real *gz)
 {
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_fp_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1,
                                   1, vf_loadn(fp + i, c));
         store_corner(r, i, c, v, gx, gy, gz);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.fractal3_grad_fp(f, fp + t, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t, gz + t);
+    }
+#endif
 }
 
 /* Fused height -> normal: h(p) = A F(f p), grad h = A f F'(f p), then eq. 4.
@@ -487,7 +611,7 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
     vf af = vf_set1(h->amplitude * h->frequency);
     vf step = vf_set1(h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP);
     int central = !fp && h->gradient == BG_GRADIENT_CENTRAL;
-    BG_FOR_BATCH(i, c, n)
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         vf qx = vf_mul(vf_loadn(px + i, c), freq);
         vf qy = vf_mul(vf_loadn(py + i, c), freq);
@@ -500,11 +624,22 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
         v3 gg = {vf_mul(af, r.gx), vf_mul(af, r.gy), vf_mul(af, r.gz)};
         v3 o = perturb_vec(m, nn, gg);
         if (height)
-            vf_storen(height + i, vf_mul(amp, r.v), c);
-        vf_storen(ox + i, o.x, c);
-        vf_storen(oy + i, o.y, c);
-        vf_storen(oz + i, o.z, c);
+            store_out(height + i, vf_mul(amp, r.v), c);
+        store_out(ox + i, o.x, c);
+        store_out(oy + i, o.y, c);
+        store_out(oz + i, o.z, c);
     }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        if (fp)
+            bg_kernels_c.perturb_height_fp(h, m, fp + t, px + t, py + t, pz + t, nx + t, ny + t,
+                                           nz + t, 1, BG_OPT(height, t), ox + t, oy + t, oz + t);
+        else
+            bg_kernels_c.perturb_height(h, m, px + t, py + t, pz + t, nx + t, ny + t, nz + t, 1,
+                                        BG_OPT(height, t), ox + t, oy + t, oz + t);
+    }
+#endif
 }
 
 void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,
@@ -521,6 +656,36 @@ void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real 
                          bg_real *ox, bg_real *oy, bg_real *oz)
 {
     perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+}
+#endif
+
+/* ---- Single points (scalar float only) ---------------------------------------
+ * The per-point entry points of noise.h call these directly: no table load, no
+ * batch loop, arguments and result in registers. The same noise_vec /
+ * fractal_vec as the batch kernels, so the same bits. */
+#if LANES == 1 && !defined(BG_SCALAR_DOUBLE)
+float bg_noise3_point_c(float x, float y, float z)
+{
+    return vf_canon(noise_vec(x, y, z, 0).v);
+}
+
+float bg_noise3_grad_point_c(float x, float y, float z, float g[3])
+{
+    corner r = noise_vec(x, y, z, 1);
+    g[0] = vf_canon(r.gx), g[1] = vf_canon(r.gy), g[2] = vf_canon(r.gz);
+    return vf_canon(r.v);
+}
+
+float bg_fractal3_point_c(const bg_fractal *f, float x, float y, float z)
+{
+    return vf_canon(fractal_vec(f, x, y, z, 0).v);
+}
+
+float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, float g[3])
+{
+    corner r = fractal_vec(f, x, y, z, 1);
+    g[0] = vf_canon(r.gx), g[1] = vf_canon(r.gy), g[2] = vf_canon(r.gz);
+    return vf_canon(r.v);
 }
 #endif
 

@@ -71,6 +71,12 @@ const bg_kernel_table *bg_kernels_for(bg_isa isa);
 int bg_kernels_variants(bg_isa isa, const bg_kernel_table **out, int max);
 /* The scalar float table (used by the single-point entry points). */
 extern const bg_kernel_table bg_kernels_c;
+/* Single points on the scalar float kernel, for the per-point entry points
+ * (same bits as bg_kernels_c with n = 1; g = {dx, dy, dz}). */
+float bg_noise3_point_c(float x, float y, float z);
+float bg_noise3_grad_point_c(float x, float y, float z, float g[3]);
+float bg_fractal3_point_c(const bg_fractal *f, float x, float y, float z);
+float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, float g[3]);
 extern const bg_kernel_table_d bg_kernels_c64;
 
 #endif

@@ -7,6 +7,7 @@
 #define BUMPGRAD_VEC_AVX2_H
 
 #include <immintrin.h>
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 #include <float.h>
@@ -22,16 +23,24 @@ typedef __m256i vi;
 typedef __m256 vm; /* all-ones / all-zeros lanes */
 
 static inline vf vf_set1(float a) { return _mm256_set1_ps(a); }
-/* Partial tails go through a zeroed stack copy: never touch p[c..LANES). (A
- * vmaskmovps load would also not fault, but the copy is as fast for one tail per
- * call and has no AMD/Intel masked-store penalty to think about.) */
+/* Partial tails by vmaskmovps: masked-off lanes are neither read nor written
+ * (no fault past the end of an array), and loaded as +0. A call of a few
+ * points then costs no stack copy and no memcpy call (issue 10 item 4). */
+static inline __m256i bg_tail_mask(size_t c)
+{
+    return _mm256_cmpgt_epi32(_mm256_set1_epi32((int)c), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
 static inline vf vf_loadn(const float *p, size_t c)
 {
     if (c == LANES)
         return _mm256_loadu_ps(p);
+#ifdef BG_TAIL_COPY
     float t[LANES] = {0};
     memcpy(t, p, c * sizeof(float));
     return _mm256_loadu_ps(t);
+#else
+    return _mm256_maskload_ps(p, bg_tail_mask(c));
+#endif
 }
 static inline void vf_storen(float *p, vf v, size_t c)
 {
@@ -39,9 +48,13 @@ static inline void vf_storen(float *p, vf v, size_t c)
         _mm256_storeu_ps(p, v);
         return;
     }
+#ifdef BG_TAIL_COPY
     float t[LANES];
     _mm256_storeu_ps(t, v);
     memcpy(p, t, c * sizeof(float));
+#else
+    _mm256_maskstore_ps(p, bg_tail_mask(c), v);
+#endif
 }
 static inline vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
 static inline vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
@@ -91,6 +104,92 @@ static inline vi vi_perm2(vi idx)
 #endif
 }
 static inline vi vi_srl8(vi a) { return _mm256_srli_epi32(a, 8); }
+
+/* In-register hash chain (issue 10): Perlin's permutation applied to each of
+ * 32 bytes with vpshufb. vpshufb looks up 16 bytes (per 128-bit lane) with the
+ * low nibble; the 16 slices p[16k .. 16k+15] are each looked up and a blend
+ * tree on index bits 4, 5, 6, 7 (vpblendvb reads bit 7 of each byte, so each
+ * bit is shifted there; 16-bit shifts keep the bytes apart for that bit) picks
+ * the slice: 16 vpshufb + 15 vpblendvb for 32 lookups, where the gather chain
+ * pays 7 vpgatherdd (about 9.5 cycles each on Zen 3) for 8 points. */
+/* -DBG_VEC_GATHER builds the 7-gather chain instead (the generic vi_hash8 of
+ * bump_tmpl.c), -DBG_VEC_PSHUFB_FIRST the first step by bg_perm_bytes too:
+ * the alternatives measured in docs/KERNELS.md. */
+#ifndef BG_VEC_GATHER
+static inline __m256i bg_perm_bytes(__m256i idx)
+{
+    const __m128i *t = (const __m128i *)(const void *)bg_perm256_u8;
+    __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
+    __m256i r[16];
+    for (int k = 0; k < 16; k++)
+        r[k] = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + k)), lo);
+    __m256i s = _mm256_slli_epi16(idx, 3); /* bit 4 -> bit 7 */
+    for (int k = 0; k < 8; k++)
+        r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
+    s = _mm256_slli_epi16(idx, 2); /* bit 5 */
+    for (int k = 0; k < 4; k++)
+        r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
+    s = _mm256_slli_epi16(idx, 1); /* bit 6 */
+    for (int k = 0; k < 2; k++)
+        r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
+    return _mm256_blendv_epi8(r[0], r[1], idx); /* bit 7 */
+}
+
+/* The byte-lane chain of the AVX-512 VBMI variant (vec_avx512.h explains the
+ * layout): four indices per dword, every index modulo 256 (vpaddb wraps as the
+ * doubled table would), 4 bg_perm_bytes calls for 8 points. */
+#define BG_HAVE_HASH8 1
+static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+{
+    const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
+    const __m256i b23 = _mm256_broadcastsi128_si256(_mm_setr_epi8(2, 2, 3, 3, 6, 6, 7, 7, 10, 10, 11, 11, 14, 14, 15, 15));
+    const __m256i plus0101 = _mm256_set1_epi32(0x01000100);
+    __m256i yb = _mm256_shuffle_epi8(Y, b0), zb = _mm256_shuffle_epi8(Z, b0);
+#ifndef BG_VEC_PSHUFB_FIRST
+    /* First step by one vpgatherdd of the pair table, (p[X], p[X+1]) + Y: it
+     * needs 8 lookups, where bg_perm_bytes would do 32 (docs/KERNELS.md has
+     * the measurements of both). */
+    __m256i q = _mm256_i32gather_epi32(bg_perm_pair, X, 4);
+    __m256i ab = _mm256_add_epi8(_mm256_shuffle_epi8(q, _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13))), yb);
+#else
+    __m256i ab = _mm256_add_epi8(bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(X, b0), plus0101)), yb);
+#endif
+    __m256i i2 = _mm256_add_epi8(_mm256_shuffle_epi8(ab, b01), plus0101);
+    __m256i hz = _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+    __m256i la = bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(hz, b01), plus0101));
+    __m256i lb = bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(hz, b23), plus0101));
+    h[0] = la;                          /* 000: p[AA]   */
+    h[4] = _mm256_srli_epi32(la, 8);    /* 001: p[AA+1] */
+    h[2] = _mm256_srli_epi32(la, 16);   /* 010: p[AB]   */
+    h[6] = _mm256_srli_epi32(la, 24);   /* 011: p[AB+1] */
+    h[1] = lb;                          /* 100: p[BA]   */
+    h[5] = _mm256_srli_epi32(lb, 8);    /* 101: p[BA+1] */
+    h[3] = _mm256_srli_epi32(lb, 16);   /* 110: p[BB]   */
+    h[7] = _mm256_srli_epi32(lb, 24);   /* 111: p[BB+1] */
+}
+#endif
+
+/* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
+ * (bit b of h set ? a : c); vf_flip_bit(a, h, b) flips the sign bit of a where
+ * bit b of h is set (the reference's -u, an exact negation). vf_canon(a) is a
+ * with every NaN replaced by the one canonical quiet NaN (+qNaN, 0x7fc00000),
+ * applied to every kernel output so that NaN results are the same bits on
+ * every ISA. */
+/* vblendvps reads only the sign bit of the selector: bit b shifted there. */
+static inline vf vf_sel_bit(vi h, int b, vf a, vf c)
+{
+    return _mm256_blendv_ps(c, a, _mm256_castsi256_ps(_mm256_slli_epi32(h, 31 - b)));
+}
+static inline vf vf_flip_bit(vf a, vi h, int b)
+{
+    vi s = _mm256_and_si256(_mm256_slli_epi32(h, 31 - b), _mm256_set1_epi32(INT32_MIN));
+    return _mm256_xor_ps(a, _mm256_castsi256_ps(s));
+}
+static inline vf vf_canon(vf a)
+{
+    return _mm256_blendv_ps(a, _mm256_set1_ps(NAN), _mm256_cmp_ps(a, a, _CMP_UNORD_Q));
+}
 /* tab[idx & 15]: vpermps uses index bits 0-2; bit 3 (moved to the sign)
  * picks the upper half. */
 static inline vf vf_lut16(const float *tab, vi idx)

@@ -6,6 +6,7 @@
 #define BUMPGRAD_VEC_AVX512_H
 
 #include <immintrin.h>
+#include <math.h>
 #include <stdint.h>
 #include <float.h>
 #include "kernels.h"
@@ -131,6 +132,26 @@ static inline vi vi_perm2(vi idx)
 #endif
 }
 static inline vi vi_srl8(vi a) { return _mm512_srli_epi32(a, 8); }
+
+/* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
+ * (bit b of h set ? a : c); vf_flip_bit(a, h, b) flips the sign bit of a where
+ * bit b of h is set (the reference's -u, an exact negation). vf_canon(a) is a
+ * with every NaN replaced by the one canonical quiet NaN (+qNaN, 0x7fc00000),
+ * applied to every kernel output so that NaN results are the same bits on
+ * every ISA. */
+static inline vf vf_sel_bit(vi h, int b, vf a, vf c)
+{
+    return _mm512_mask_blend_ps(_mm512_test_epi32_mask(h, _mm512_set1_epi32(1 << b)), c, a);
+}
+static inline vf vf_flip_bit(vf a, vi h, int b)
+{
+    vi s = _mm512_and_si512(_mm512_slli_epi32(h, (unsigned)(31 - b)), _mm512_set1_epi32(INT32_MIN));
+    return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), s));
+}
+static inline vf vf_canon(vf a)
+{
+    return _mm512_mask_mov_ps(a, _mm512_cmp_ps_mask(a, a, _CMP_UNORD_Q), _mm512_set1_ps(NAN));
+}
 
 /* tab[idx & 15]: vpermps ignores the index bits above 3. */
 static inline vf vf_lut16(const float *tab, vi idx) { return _mm512_permutexvar_ps(idx, _mm512_loadu_ps(tab)); }

@@ -13,6 +13,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 #include <float.h>
 #include "kernels.h"
 
@@ -70,6 +71,33 @@ static inline vi vi_srl8(vi a) { return (vi)((uint32_t)a >> 8); }
 
 /* tab[idx & 15]: the corner gradient tables. */
 static inline vf vf_lut16(const bg_real *tab, vi idx) { return tab[idx & 15]; }
+
+/* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
+ * (bit b of h set ? a : c); vf_flip_bit(a, h, b) flips the sign bit of a where
+ * bit b of h is set (the reference's -u, an exact negation). vf_canon(a) is a
+ * with every NaN replaced by the one canonical quiet NaN (+qNaN, 0x7fc00000),
+ * applied to every kernel output so that NaN results are the same bits on
+ * every ISA. */
+static inline vf vf_sel_bit(vi h, int b, vf a, vf c) { return (h >> b) & 1 ? a : c; }
+/* The flip as an integer XOR: a branch on a random hash bit mispredicts. */
+static inline vf vf_flip_bit(vf a, vi h, int b)
+{
+#ifdef BG_SCALAR_DOUBLE
+    uint64_t u;
+    memcpy(&u, &a, sizeof u);
+    u ^= (uint64_t)((uint32_t)h >> b & 1u) << 63;
+#else
+    uint32_t u;
+    memcpy(&u, &a, sizeof u);
+    u ^= ((uint32_t)h >> b & 1u) << 31;
+#endif
+    memcpy(&a, &u, sizeof a);
+    return a;
+}
+/* One lane: the corner's axes and gradient vector by table (three loads beat
+ * the branches a scalar compiler makes of the vector selects; bump_tmpl.c). */
+#define BG_GRAD_BY_TABLE 1
+static inline vf vf_canon(vf a) { return a != a ? (bg_real)NAN : a; }
 #ifndef BG_SCALAR_DOUBLE
 /* An integer-valued float (a floor) modulo 256 in [0, 256); 0 for NaN/Inf. From
  * 2^31 up every float is a multiple of 256, so the int32 conversion is only

@@ -6,6 +6,7 @@
 #define BUMPGRAD_VEC_NEON_H
 
 #include <arm_neon.h>
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 #include <float.h>
@@ -77,6 +78,24 @@ static inline vi vi_perm2(vi idx)
     return vsetq_lane_s32(bg_perm_pair[vgetq_lane_s32(i, 3)], r, 3);
 }
 static inline vi vi_srl8(vi a) { return vreinterpretq_s32_u32(vshrq_n_u32(vreinterpretq_u32_s32(a), 8)); }
+
+/* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
+ * (bit b of h set ? a : c); vf_flip_bit(a, h, b) flips the sign bit of a where
+ * bit b of h is set (the reference's -u, an exact negation). vf_canon(a) is a
+ * with every NaN replaced by the one canonical quiet NaN (+qNaN, 0x7fc00000),
+ * applied to every kernel output so that NaN results are the same bits on
+ * every ISA. */
+static inline vf vf_sel_bit(vi h, int b, vf a, vf c)
+{
+    return vbslq_f32(vtstq_s32(h, vdupq_n_s32(1 << b)), a, c);
+}
+static inline vf vf_flip_bit(vf a, vi h, int b)
+{
+    uint32x4_t s = vandq_u32(vshlq_u32(vreinterpretq_u32_s32(h), vdupq_n_s32(31 - b)),
+                             vdupq_n_u32(0x80000000u));
+    return vreinterpretq_f32_u32(veorq_u32(vreinterpretq_u32_f32(a), s));
+}
+static inline vf vf_canon(vf a) { return vbslq_f32(vceqq_f32(a, a), a, vdupq_n_f32(NAN)); }
 /* tab[idx & 15]: one tbl over the 64 table bytes, byte index 4 (idx & 15) + k
  * for byte k of each lane (the index bytes never exceed 63). */
 static inline vf vf_lut16(const float *tab, vi idx)

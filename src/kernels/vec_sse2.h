@@ -7,6 +7,7 @@
 #define BUMPGRAD_VEC_SSE2_H
 
 #include <emmintrin.h>
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 #include <float.h>
@@ -93,6 +94,24 @@ static inline vi vi_perm2(vi idx)
                           bg_perm_pair[_mm_cvtsi128_si32(_mm_shuffle_epi32(i, 0xFF))]);
 }
 static inline vi vi_srl8(vi a) { return _mm_srli_epi32(a, 8); }
+
+/* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
+ * (bit b of h set ? a : c); vf_flip_bit(a, h, b) flips the sign bit of a where
+ * bit b of h is set (the reference's -u, an exact negation). vf_canon(a) is a
+ * with every NaN replaced by the one canonical quiet NaN (+qNaN, 0x7fc00000),
+ * applied to every kernel output so that NaN results are the same bits on
+ * every ISA. */
+static inline vf vf_sel_bit(vi h, int b, vf a, vf c)
+{
+    vm m = _mm_castsi128_ps(_mm_srai_epi32(_mm_slli_epi32(h, 31 - b), 31));
+    return vf_sel(m, a, c);
+}
+static inline vf vf_flip_bit(vf a, vi h, int b)
+{
+    vi s = _mm_and_si128(_mm_slli_epi32(h, 31 - b), _mm_set1_epi32(INT32_MIN));
+    return _mm_xor_ps(a, _mm_castsi128_ps(s));
+}
+static inline vf vf_canon(vf a) { return vf_sel(_mm_cmpunord_ps(a, a), _mm_set1_ps(NAN), a); }
 /* tab[idx & 15]: no variable shuffle in SSE2, so four scalar loads. */
 static inline vf vf_lut16(const float *tab, vi idx)
 {

@@ -6,16 +6,23 @@ with sane types, for every kernel name. Timing thresholds would make the test
 fail on a busy machine, which is what benchmark() numbers are for."""
 import json
 import math
+import os
 import subprocess
 import sys
+import tempfile
 
 OURS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_grad_central",
-        "perturb_surfgrad", "perturb_additive", "perturb_height"]
+        "perturb_surfgrad", "perturb_additive", "perturb_height", "fbm3",
+        "noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point",
+        "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256"]
+# Per-point rows run the scalar kernel whatever the ISA: one row per thread count.
+POINT = {"noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point"}
 PEER_LIBS = {"stb_perlin", "libnoise", "glm"}
 PEER_OPS = {"value", "fbm", "grad_central"}
 ISAS = {"scalar", "sse2", "avx2", "avx512", "neon", "baseline"}
 NUMBERS = ["msamples_per_s", "ns_per_sample", "min", "max"]
-OPTIONAL = ["cpu_share", "speedup_vs_scalar", "thread_scaling", "vs_best_peer"]
+OPTIONAL = ["cpu_share", "speedup_vs_scalar", "thread_scaling", "vs_best_peer",
+            "instructions_per_sample"]
 
 
 def fail(msg):
@@ -25,7 +32,15 @@ def fail(msg):
 
 def main():
     exe = sys.argv[1]
-    args = [exe, "bench", "--quick", "--json", "--samples", "4096", "--runs", "1"]
+    # --icount: a file in the format of scripts/kernel_icount.sh --bench; its
+    # numbers must come back in instructions_per_sample of exactly those rows.
+    icount = {("noise3", "scalar"): 239.0, ("fbm3_point", "scalar"): 1601.0}
+    path = os.path.join(tempfile.mkdtemp(), "icount.txt")
+    with open(path, "w") as f:
+        for (k, isa), v in icount.items():
+            f.write("%s %s %g\n" % (k, isa, v))
+    args = [exe, "bench", "--quick", "--json", "--samples", "4096", "--runs", "1",
+            "--icount", path]
     proc = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     sys.stderr.write(proc.stderr)
     if proc.returncode != 0:
@@ -52,6 +67,13 @@ def main():
                 fail("peers run on one thread: %r" % (r,))
         elif name not in OURS:
             fail("unknown kernel %r" % name)
+        elif name in POINT and r["isa"] != "scalar":
+            fail("per-point rows run the scalar kernel only: %r" % (r,))
+        want = icount.get((name, r["isa"]))
+        if want is not None and r["instructions_per_sample"] != want:
+            fail("--icount value not in the row: %r" % (r,))
+        if want is None and r["instructions_per_sample"] is not None:
+            fail("instructions_per_sample set without --icount: %r" % (r,))
         if r["isa"] not in ISAS:
             fail("unknown isa %r" % r["isa"])
         if not isinstance(r["threads"], int) or r["threads"] < 1:

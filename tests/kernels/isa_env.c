@@ -4,8 +4,9 @@
  * machine supports, with BUMPGRAD_ISA set (the variable is read once, at the first
  * batch call, so each level needs its own process; the parent never makes one),
  * and compares per-call hashes
- * of every output with the scalar run. NaN is hashed as one value: the payload is
- * not part of the contract (docs/KERNELS.md). Public API only. */
+ * of every output with the scalar run. Every bit is hashed, NaNs included: NaN
+ * results are the one canonical quiet NaN on every ISA (docs/KERNELS.md).
+ * Public API only. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdint.h>
@@ -24,11 +25,7 @@ static uint64_t hash_floats(uint64_t h, const float *p, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
         uint32_t u;
-        float f = p[i];
-        if (f != f)
-            u = 0x7FC00000u;
-        else
-            memcpy(&u, &f, sizeof u);
+        memcpy(&u, &p[i], sizeof u);
         for (int b = 0; b < 4; b++) {
             h ^= (u >> (8 * b)) & 0xFF;
             h *= 0x100000001B3ull; /* FNV-1a */
