@@ -219,6 +219,7 @@ typedef struct run_ctx {
     int need_quads;
     int tex_ref; /* the reference is surfgrad-heightmap (a textured job) */
     int need_detail;
+    int need_solid; /* some method uses the solid height at the hits (not texture-only) */
     atomic_int failed;
     atomic_size_t done;
     bgt_height analytic, central;
@@ -372,6 +373,8 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1], T->bnz[nb] = T->n[k * 3 + 2];
             T->bidx[nb++] = (int)k;
         }
+    if (!C->need_solid)
+        nb = 0; /* a texture-only job: the solid height is not used */
     bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
                        T->bnz, nb, T->bh, T->box, T->boy, T->boz);
     for (size_t b = 0; b < nb; b++) {
@@ -395,6 +398,12 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             if (C->tex_ref && S->tex->height.texels) {
                 bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, T->n + k * 3);
                 put3(bg_resolve_normal(v3(T->n + k * 3), &g, NULL, 1), T->ref + k * 3);
+            } else if (C->tex_ref && S->tex->nmap[0].texels) {
+                /* Only a normal map: it is its own reference. */
+                put3(tex_normalmap(S, T->prim[k], T->bc + k * 2, T->st + k * 2, T->n + k * 3),
+                     T->ref + k * 3);
+            } else if (C->tex_ref) {
+                memcpy(T->ref + k * 3, T->n + k * 3, 3 * sizeof(float));
             }
         }
 
@@ -505,6 +514,8 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                             render_tex_st(S->mesh, S->tex, T->prim[k], T->qp + k * 12 + l * 3,
                                           T->qst + k * 8 + l * 2);
         /* Helper-lane heights, one batch (gradients unused: scratch). */
+        if (!C->need_solid)
+            nh = 0;
         bgt_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
         for (size_t b = 0; b < nh; b++)
             T->qh[T->bidx[b]] = T->bh[b];
@@ -739,7 +750,10 @@ bg_status render_run(render_job *job)
     for (int i = 0; i < job->nmethods; i++) {
         C.tex_ref |= render_method_textured(job->methods[i]);
         C.need_detail |= job->methods[i] == RENDER_DETAIL;
+        C.need_solid |= !render_method_textured(job->methods[i]) && job->methods[i] != RENDER_NONE;
     }
+    if (!C.tex_ref)
+        C.need_solid = 1; /* the reference is the solid surfgrad */
     /* The reference is always the analytic gradient; surfgrad-central always
      * differences (with the --step the user gave). */
     C.analytic = *job->height;

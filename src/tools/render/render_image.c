@@ -90,7 +90,7 @@ void render_apply_preset(render_opts *o)
          * texture turns piecewise flat, then hidden by turbulence detail. */
         if (!o->mesh_path)
             o->mesh_path = "/usr/share/assimp/models/OBJ/spider.obj";
-        o->width = o->height = 320;
+        o->width = o->height = 256;
         h->fractal = bg_fractal_default(BG_FUNC_TURBULENCE);
         h->frequency = 24.0f;
         h->amplitude = 0.0015f;
@@ -419,8 +419,11 @@ static void make_stamp(const render_opts *o, const render_result *r, char *out, 
 /* Figure 4: six renders in two rows of three, each labelled with the paper's
  * caption and its mean angle to surfgrad-heightmap, then the stamp. */
 static const char *const fig4_caption[6] = {
-    "(a) Listing 1, height texture", "(b) normal map, vertex tangents", "(c) no perturbation",
-    "(d) Listing 1 with albedo",     "(e) undersampling (close-up)",    "(f) undersampling + detail"};
+    "(a) Listing 1, height map", "(b) normal mapping", "(c) no perturbation",
+    "(d) Listing 1 + albedo",    "(e) undersampling",  "(f) with detail"};
+static const char *const fig4_sub[6] = {
+    "Listing 2 taps", "per-vertex tangents", "unperturbed normals", "albedo texture",
+    "close-up, magnified texture", "+ turbulence, resolved"};
 
 static bg_status compose_fig4(const render_job *full, const render_job *close,
                               const render_stats *st, const char *stamp, render_canvas *c,
@@ -442,9 +445,9 @@ static bg_status compose_fig4(const render_job *full, const render_job *close,
         int m = k < 4 ? k : k - 4;
         label(c, x, y, fsz, fig4_caption[k], fg);
         if (k == 2 || k == 3)
-            snprintf(text, sizeof text, "%s", k == 2 ? "unperturbed normals" : "albedo texture");
+            snprintf(text, sizeof text, "%s", fig4_sub[k]);
         else
-            snprintf(text, sizeof text, "%.2f deg to surfgrad-heightmap", st[k].mean_deg);
+            snprintf(text, sizeof text, "%s, %.2f deg", fig4_sub[k], st[k].mean_deg);
         label(c, x, y + lab, fsz * 3 / 4 > 8 ? fsz * 3 / 4 : 8, text, fg);
         render_canvas_blit(c, x, y + 2 * lab, J->rgb[m], W, H, 1);
     }
