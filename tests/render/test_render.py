@@ -340,9 +340,13 @@ def t_tracers(tmp):
                                 "--output", os.path.join(tmp, "x.png")], tmp)[2]:
         print("SKIP: built without Embree")
         sys.exit(77)
-    for scene in (["--preset", "fig1", "--size", "128x128"],
+    scenes = [["--preset", "fig1", "--size", "128x128"],
                   ["--scene", "torus", "--compare", "none,surfgrad,listing1,flat,additive",
-                   "--size", "128x128"]):
+                   "--size", "128x128"]]
+    if os.path.exists(SPIDER):  # a user's mesh, textured methods included
+        scenes.append(["--mesh", SPIDER, "--compare", "none,normalmap,listing1-heightmap,detail",
+                       "--size", "96x96"])
+    for scene in scenes:
         res = {}
         for tr in ("bvh", "embree"):
             rc, so, se = run(scene + ["--tracer", tr, "--output", os.path.join(tmp, tr + ".png")], tmp)
