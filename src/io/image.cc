@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io_util.h"
+#include "common/tool.h"
 
 using namespace OIIO;
 
@@ -70,6 +71,16 @@ static bg_status read_impl(const char *path, bg_image *out, char *err, size_t er
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
         bg_io_set_error(err, errlen, "'%s': unsupported image shape %dx%dx%d with %d channels",
                         path, spec.width, spec.height, spec.depth, spec.nchannels);
+        return BG_ERR_FORMAT;
+    }
+    // The declared size decides the allocation: check it against the one cap
+    // first (a 442-byte TGA may declare 28018 x 65535 pixels). The float image
+    // and, for most formats, a native-format buffer of the same order.
+    bgt_err cap_err;
+    if (bgt_check_alloc(2.0 * spec.width * spec.height * spec.nchannels * sizeof(float),
+                        "reading the image", &cap_err) != BG_OK) {
+        bg_io_set_error(err, errlen, "'%s': %dx%d with %d channels: %s", path, spec.width,
+                        spec.height, spec.nchannels, cap_err.msg);
         return BG_ERR_FORMAT;
     }
     bg_image img;
