@@ -111,6 +111,9 @@ bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
 {
     if (!o || !o->input || !o->output)
         return bgt_fail(e, BG_ERR_NULL_POINTER, "expected IN OUT");
+    bg_status ready = bgt_io_ready(e);
+    if (ready != BG_OK)
+        return ready;
     const char *in_path = o->input, *out_path = o->output;
     const int seed_gray = o->gray == BGT_GRAY_SEED, wrap = o->wrap, y_down = o->y_down,
               to_deriv = o->to_derivative;

@@ -67,6 +67,9 @@ bg_status bgt_volume_run(const bgt_volume_opts *o, bgt_volume_result *r, bgt_err
     if (!o || !o->height || !o->output || !r)
         return bgt_fail(e, BG_ERR_NULL_POINTER, "no height, output or result given");
     memset(r, 0, sizeof *r);
+    bg_status ready = bgt_io_ready(e);
+    if (ready != BG_OK)
+        return ready;
     const char *out_path = o->output;
     const double *bbox = o->bbox, *band = o->band, voxel = o->voxel;
     const int have_band = o->have_band;
@@ -135,6 +138,27 @@ bg_status bgt_volume_run(const bgt_volume_opts *o, bgt_volume_result *r, bgt_err
                             "%llu: raise --voxel-size or shrink the sphere",
                             (unsigned long long)rows, (unsigned long long)VOL_MAX_VOXELS);
     }
+    {
+        /* Memory goes by 8^3 leaves, not voxels: a box one voxel thick fills
+         * each leaf with 8 voxels at the cost of 512 (about 8.5 KB per leaf for
+         * the float and the vec3 grid). Count the leaves the box (or the band's
+         * shell, widened by a leaf) can touch and check them against the one
+         * cap, with the batch arrays of the longest row. */
+        double leaves = 1;
+        if (!have_band) {
+            for (int a = 0; a < 3; a++)
+                leaves *= floor((double)hi[a] / 8) - floor((double)lo[a] / 8) + 1;
+        } else {
+            const double pi = 3.14159265358979323846, leaf = 8 * voxel;
+            const double ro = band[3] + band[4] + leaf, ri = band[3] - band[4] - leaf;
+            const double shell = 4.0 / 3.0 * pi * (ro * ro * ro - (ri > 0 ? ri * ri * ri : 0));
+            leaves = ceil(shell / (leaf * leaf * leaf)) + 1;
+        }
+        const double row = (double)(ihi[0] - ilo[0] + 1);
+        bg_status cs = bgt_check_alloc(leaves * 8704.0 + (VOL_BATCH + row) * 40.0, "this volume", e);
+        if (cs != BG_OK)
+            return cs;
+    }
     bgt_height height = *o->height;
     height.grid = NULL;
     bg_status st = bgt_height_open(&height, e);
@@ -160,8 +184,11 @@ bg_status bgt_volume_run(const bgt_volume_opts *o, bgt_volume_result *r, bgt_err
     }
     st = bg_vdb_writer_create(voxel, NULL, NULL, NULL, &w);
     if (st != BG_OK) {
-        st = st == BG_ERR_IO
-                 ? bgt_fail(e, BG_ERR_IO, "the I/O module (OpenVDB) cannot be loaded")
+        st = st == BG_ERR_IO ? bgt_fail(e, BG_ERR_IO, "the I/O module (OpenVDB) cannot be loaded")
+             : st == BG_ERR_INVALID_ARGUMENT
+                 ? bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "--voxel-size %g: OpenVDB refuses a transform this fine "
+                            "(measured with OpenVDB 10: voxels below about 1.5e-5 fail)", voxel)
                  : bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
         goto done;
     }

@@ -45,6 +45,11 @@ size_t bgt_memory_cap(void);
  * BG_ERR_INVALID_ARGUMENT with a message naming `what`, the size and the cap. */
 bg_status bgt_check_alloc(double bytes, const char *what, bgt_err *e);
 
+/* BG_OK if the I/O module (images, volumes, meshes) loads; else BG_ERR_IO
+ * with the loader's reason. Tools that read or write files through the shim
+ * call it before their work (tools build only: common/io_ready.c). */
+bg_status bgt_io_ready(bgt_err *e);
+
 /* Progress of a long job: begin(label, total) once, update(done) from any
  * worker (the callback is responsible for its own rate limiting and locking),
  * end() once. Any member may be NULL, and so may the whole pointer. */

@@ -251,6 +251,8 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     if (!r)
         return bgt_fail(e, BG_ERR_NULL_POINTER, "no result given");
     memset(r, 0, sizeof *r);
+    if ((st = bgt_io_ready(e)) != BG_OK)
+        return st;
     const char *in_path = o->input, *out_path = o->output, *bake_path = o->bake_path;
     bgt_height h = *o->height;
     h.grid = NULL;

@@ -483,6 +483,18 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
                             render_method_name(o->methods[m]));
     if (o->preset == PRESET_FIG4 && o->sweep)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--sweep does not apply to --preset fig4");
+    if ((rc = bgt_io_ready(e)) != BG_OK)
+        return rc;
+    {
+        /* What render_run and the panel will allocate, checked against the one
+         * cap first: per method an RGB and a heat image, and per sample an
+         * error and an inward flag; the panel about (rows x methods) images. */
+        const double px = (double)o->width * o->height, ns = px * o->ss * o->ss;
+        const double per_method = px * 4.0 * 4.0 + ns * 5.0;
+        const double panel = o->compare ? (o->closeup ? 3.0 : 2.0) * px * 12.0 * 1.3 : 0.0;
+        if ((rc = bgt_check_alloc(o->nmethods * (per_method + panel), "this render", e)) != BG_OK)
+            return rc;
+    }
 
     render_mesh mesh;
     memset(&mesh, 0, sizeof mesh);
