@@ -20,7 +20,8 @@ static const char *const CMD = "render";
 static void render_help(FILE *fp)
 {
     fputs("Usage: bumpgrad render [options] --output FILE.png|FILE.exr\n"
-          "       bumpgrad render --preset fig1|fig2|fig3 --output FILE.png\n"
+          "       bumpgrad render --preset fig1|fig2|fig3|fig4 --output FILE.png\n"
+          "       bumpgrad render --mesh FILE [--compare M1,M2,..] --output FILE.png\n"
           "\n"
           "Ray-casts a sphere or a triangulated isosurface with a solid height field\n"
           "h(p) = A * F(f * p) and one point light (diffuse + Blinn-Phong), perturbing\n"
@@ -35,7 +36,19 @@ static void render_help(FILE *fp)
           "  flat              cross(tau_s, tau_t) of the displaced position (Figure 1a)\n"
           "  surfgrad-footprint  surfgrad without the octaves finer than each sample's\n"
           "                    footprint (from its ray differential); the last kept octave\n"
-          "                    fades out smoothly (bg_perturb_height_footprint_batch)\n"
+          "                    fades out smoothly (bg_perturb_height_footprint_batch)\n",
+          fp);
+    fputs("With --mesh FILE (a mesh with UVs and a height texture):\n"
+          "  listing1-heightmap  Listing 1 fed by Listing 2's forward taps of the height\n"
+          "                    texture (ddx/ddy of position and UV on 2x2 quads)\n"
+          "  listing1-heightmap-central  the same with Listing 2's central taps\n"
+          "  normalmap         tangent-space normal map with interpolated per-vertex\n"
+          "                    tangents (from the UVs; --normal-map, or baked from the height)\n"
+          "  surfgrad-heightmap  eq. 3 on the UV chart with bicubic texture derivatives:\n"
+          "                    the reference of a textured --compare\n"
+          "  detail            the Listing 1/2 height plus the solid --function height\n"
+          "                    (footprint-aware octaves from ray differentials), blended\n"
+          "                    with the surface-gradient resolve\n"
           "\n"
           "Options:\n"
           "  --method M          perturbation method (default surfgrad)\n"
@@ -47,14 +60,31 @@ static void render_help(FILE *fp)
           "  --spp N             samples per pixel, a square 1, 4, 9, .. 256 (default 1);\n"
           "                      a regular s x s grid, i.e. s times the pixel density\n"
           "  --distance D        camera distance from the centre (default 4)\n"
-          "  --zoom Z            focal-length factor (default 1; 2 = twice as close-up)\n"
+          "  --zoom Z            focal-length factor (default 1; 2 = twice as close-up;\n"
+          "                      a --mesh is framed automatically unless --zoom is given)\n",
+          fp);
+    fputs(
           "  --light X,Y,Z       point-light position (default -5,4,3; camera on +z)\n"
           "  --closeup K         add a row with a K-times magnified crop (Figure 3c/d)\n"
           "  --heat-max DEG      angle error shown at the top of the heat map (default 20)\n"
           "  --sweep             print the error against surfgrad at 1/4..4x pixel density\n"
           "  --threads N         worker threads (default: all cores)\n"
-          "  --preset P          fig1, fig2 or fig3: the paper's figures (any other\n"
-          "                      option given overrides the preset's setting)\n"
+          "  --preset P          fig1, fig2, fig3 or fig4: the paper's figures (any other\n"
+          "                      option given overrides the preset's setting); fig4 uses\n"
+          "                      assimp-testmodels' OBJ/spider.obj unless --mesh is given\n"
+          "  --mesh FILE         render a mesh file (any format assimp reads) instead of\n"
+          "                      --scene; centred and scaled into the unit sphere\n"
+          "  --height-map IMG    height texture (gray level); default: the OBJ material's\n"
+          "                      bump map, else the gray of its albedo (map_Kd)\n"
+          "  --normal-map IMG    tangent-space normal map (OpenGL +y); default: the\n"
+          "                      material's, else baked from the height texture\n"
+          "  --albedo IMG        albedo texture; default: the material's map_Kd\n"
+          "  --no-albedo         shade with the plain grey albedo\n"
+          "  --tex-amplitude A   height of texel value 1, in bounding radii (default 0.004)\n"
+          "  --st-scale S        texture coordinates times S (< 1 magnifies; default 1)\n"
+          "  --view X,Y,Z        camera direction from the centre (default 0,0.28,1)\n"
+          "  --tracer T          auto (default: embree for --mesh, bvh for the built-in\n"
+          "                      scenes), bvh or embree\n"
           "  --output FILE       .png (8-bit sRGB) or .exr (32-bit float, linear)\n"
           "\n"
           "Prints one line per method: stats method=M mean_deg p99_deg max_deg (angle\n"
@@ -74,7 +104,9 @@ static int add_method(render_opts *o, const char *name)
     if (render_method_parse(name, &m) != 0)
         return cli_usage_error(CMD,
                                "unknown method \"%s\" (expected none, surfgrad, surfgrad-central, "
-                               "listing1, listing1-coarse, additive, flat or surfgrad-footprint)",
+                               "listing1, listing1-coarse, additive, flat, surfgrad-footprint, "
+                               "listing1-heightmap, listing1-heightmap-central, normalmap, "
+                               "surfgrad-heightmap or detail)",
                                name);
     if (o->nmethods == RENDER_MAX_METHODS)
         return cli_usage_error(CMD, "--compare: at most %d methods", RENDER_MAX_METHODS);
@@ -128,8 +160,10 @@ static int parse_args(int argc, char **argv, render_opts *o)
                 o->preset = PRESET_FIG2;
             else if (strcmp(v, "fig3") == 0)
                 o->preset = PRESET_FIG3;
+            else if (strcmp(v, "fig4") == 0)
+                o->preset = PRESET_FIG4;
             else
-                return cli_usage_error(CMD, "--preset: expected fig1, fig2 or fig3, got \"%s\"", v);
+                return cli_usage_error(CMD, "--preset: expected fig1, fig2, fig3 or fig4, got \"%s\"", v);
         }
     render_apply_preset(o);
     for (int i = 1; i < argc; i++) {
@@ -148,10 +182,15 @@ static int parse_args(int argc, char **argv, render_opts *o)
             o->sweep = 1;
             continue;
         }
+        if (strcmp(a, "--no-albedo") == 0) {
+            o->no_albedo = 1;
+            continue;
+        }
         static const char *const with_value[] = {
             "--preset", "--method", "--compare", "--scene", "--grid",  "--size",     "--spp",
             "--distance", "--zoom", "--closeup", "--heat-max", "--threads", "--output", "-o",
-            "--light"};
+            "--light", "--mesh", "--height-map", "--normal-map", "--albedo", "--tex-amplitude",
+            "--st-scale", "--view", "--tracer"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= strcmp(a, with_value[k]) == 0;
@@ -194,18 +233,50 @@ static int parse_args(int argc, char **argv, render_opts *o)
                 return CLI_USAGE;
             if (!(o->distance > 1.5f) || !isfinite(o->distance))
                 return cli_usage_error(CMD, "--distance: must be > 1.5 (outside the object), got \"%s\"", v);
-        } else if (strcmp(a, "--light") == 0) {
-            char *e1, *e2, *e3;
+        } else if (strcmp(a, "--light") == 0 || strcmp(a, "--view") == 0) {
+            char *e1, *e2 = NULL, *e3 = NULL;
             double x = strtod(v, &e1), y = *e1 == ',' ? strtod(e1 + 1, &e2) : 0,
                    z = (*e1 == ',' && *e2 == ',') ? strtod(e2 + 1, &e3) : 0;
             if (*e1 != ',' || *e2 != ',' || *e3 || !isfinite(x) || !isfinite(y) || !isfinite(z))
-                return cli_usage_error(CMD, "--light: expected X,Y,Z, got \"%s\"", v);
-            o->light[0] = (float)x, o->light[1] = (float)y, o->light[2] = (float)z;
+                return cli_usage_error(CMD, "%s: expected X,Y,Z, got \"%s\"", a, v);
+            if (a[2] == 'v') {
+                if (x == 0 && y == 0 && z == 0)
+                    return cli_usage_error(CMD, "--view: must not be 0,0,0");
+                o->view[0] = (float)x, o->view[1] = (float)y, o->view[2] = (float)z;
+                o->view_set = 1;
+            } else {
+                o->light[0] = (float)x, o->light[1] = (float)y, o->light[2] = (float)z;
+            }
+        } else if (strcmp(a, "--mesh") == 0) {
+            o->mesh_path = v;
+        } else if (strcmp(a, "--height-map") == 0) {
+            o->height_map = v;
+        } else if (strcmp(a, "--normal-map") == 0) {
+            o->normal_map = v;
+        } else if (strcmp(a, "--albedo") == 0) {
+            o->albedo_map = v;
+        } else if (strcmp(a, "--tex-amplitude") == 0 || strcmp(a, "--st-scale") == 0) {
+            float f;
+            if (cli_parse_float(CMD, a, v, &f))
+                return CLI_USAGE;
+            if (!(f > 0) || !isfinite(f))
+                return cli_usage_error(CMD, "%s: must be > 0, got \"%s\"", a, v);
+            *(a[2] == 't' ? &o->tex_amplitude : &o->st_scale) = f;
+        } else if (strcmp(a, "--tracer") == 0) {
+            if (strcmp(v, "auto") == 0)
+                o->tracer = TRACER_AUTO;
+            else if (strcmp(v, "bvh") == 0)
+                o->tracer = TRACER_BVH;
+            else if (strcmp(v, "embree") == 0)
+                o->tracer = TRACER_EMBREE;
+            else
+                return cli_usage_error(CMD, "--tracer: expected auto, bvh or embree, got \"%s\"", v);
         } else if (strcmp(a, "--zoom") == 0) {
             if (cli_parse_float(CMD, a, v, &o->zoom))
                 return CLI_USAGE;
             if (!(o->zoom > 0) || !isfinite(o->zoom))
                 return cli_usage_error(CMD, "--zoom: must be > 0, got \"%s\"", v);
+            o->zoom_set = 1;
         } else if (strcmp(a, "--closeup") == 0) {
             if (cli_parse_int(CMD, a, v, 0, 16, &l))
                 return CLI_USAGE;
@@ -252,15 +323,23 @@ int cmd_render(int argc, char **argv)
     if (s != BG_OK && r.out_width == 0)
         return cli_report(CMD, s, &err);
     const bg_height *h = &o.h.h;
-    printf("render scene=%s", render_shape_name(o.shape));
-    if (o.shape != RENDER_SPHERE)
+    if (o.mesh_path)
+        printf("render mesh=%s triangles=%zu", o.mesh_path, r.triangles);
+    else
+        printf("render scene=%s", render_shape_name(o.shape));
+    if (!o.mesh_path && o.shape != RENDER_SPHERE)
         printf(" grid=%d triangles=%zu", o.grid, r.triangles);
     printf(" size=%dx%d spp=%d function=%s octaves=%d frequency=%g amplitude=%g\n", o.width,
            o.height, o.ss * o.ss, cli_function_name(h->fractal.function), h->fractal.octaves,
            (double)h->frequency, (double)h->amplitude);
+    if (o.mesh_path || o.tracer != TRACER_AUTO)
+        printf("timing tracer=%s load_s=%.3f build_s=%.4f render_s=%.3f%s%s\n", r.tracer,
+               r.load_seconds, r.build_seconds, r.render_seconds, r.textures[0] ? " textures:" : "",
+               r.textures);
     for (int m = 0; m < r.nmethods; m++)
-        printf("stats method=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
-               render_method_name(r.methods[m]), r.stats[m].mean_deg, r.stats[m].p99_deg,
+        printf("stats %s%.*s%smethod=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
+               r.labels[m] ? "panel=" : "", r.labels[m] ? 1 : 0, "abcdef" + (m < 6 ? m : 0),
+               r.labels[m] ? " " : "", render_method_name(r.methods[m]), r.stats[m].mean_deg, r.stats[m].p99_deg,
                r.stats[m].max_deg, r.stats[m].inward_fraction, r.stats[m].hits);
     printf("wrote %s %dx%d\n", o.output, r.out_width, r.out_height);
     for (int k = 0; k < r.nsweep; k++) {

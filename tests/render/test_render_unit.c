@@ -173,8 +173,70 @@ static void test_names(void)
     CHECK(render_method_parse("Surfgrad", &m) != 0, "method names are exact");
 }
 
+/* Embree and the BVH on the same rays: the same hit or miss, the same
+ * triangle, t and barycentrics equal to float rounding. Rays that graze an
+ * edge may legitimately pick either neighbour (watertight vs Moeller-Trumbore
+ * tests); they must then agree on t. Without Embree: its build must fail
+ * cleanly with BG_ERR_INVALID_ARGUMENT. */
+static void test_embree(render_shape shape)
+{
+    render_mesh m;
+    CHECK(render_mesh_build(shape, 24, &m) == 0, "mesh builds");
+    render_embree *rt = NULL;
+    bgt_err err;
+    double secs = -1;
+    bg_status s = render_embree_build(&m, &rt, &secs, &err);
+    if (!render_embree_available()) {
+        CHECK(s == BG_ERR_INVALID_ARGUMENT && rt == NULL, "no Embree: a clean error");
+        render_mesh_free(&m);
+        return;
+    }
+    CHECK(s == BG_OK && rt && secs >= 0, "embree builds");
+    int n = 20000, same_prim = 0, hits = 0, far = 0;
+    double worst_p = 0;
+    for (int i = 0; i < n; i++) {
+        float o[3], d[3], tgt[3];
+        for (int k = 0; k < 3; k++)
+            o[k] = (float)(urand() * 3.0), tgt[k] = (float)(urand() * 0.8);
+        o[2] += (o[2] >= 0 ? 3.0f : -3.0f);
+        for (int k = 0; k < 3; k++)
+            d[k] = tgt[k] - o[k];
+        float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        for (int k = 0; k < 3; k++)
+            d[k] /= l;
+        render_hit a, b;
+        int ha = render_mesh_intersect(&m, o, d, INFINITY, &a), hb = render_embree_intersect(rt, o, d, &b);
+        CHECK(ha == hb, "ray %d: bvh hit %d, embree hit %d", i, ha, hb);
+        if (!ha || !hb)
+            continue;
+        hits++;
+        same_prim += a.prim == b.prim;
+        /* The hit points from each one's barycentrics on its triangle: grazing
+         * rays make t and the barycentrics ill-conditioned, the point is not. */
+        double dp = 0;
+        for (int k = 0; k < 3; k++) {
+            const float *A = m.pos + (size_t)a.prim * 9, *B = m.pos + (size_t)b.prim * 9;
+            double pa = A[k] + a.b1 * (A[3 + k] - A[k]) + a.b2 * (A[6 + k] - A[k]);
+            double pb = B[k] + b.b1 * (B[3 + k] - B[k]) + b.b2 * (B[6 + k] - B[k]);
+            dp = fmax(dp, fabs(pa - pb));
+        }
+        worst_p = dp > worst_p ? dp : worst_p;
+        far += dp > 1e-5;
+    }
+    CHECK(hits > n / 4, "enough rays hit (%d)", hits);
+    CHECK(same_prim >= hits - hits / 1000, "same triangle on all but edge rays (%d of %d)", same_prim, hits);
+    CHECK(far <= hits / 1000, "hit points within 1e-5 on all but 0.1%% of the rays (%d)", far);
+    CHECK(worst_p < 1e-3, "hit points within 1e-3 on every ray (%g)", worst_p);
+    printf("embree vs bvh (%s): %d hits, %d same triangle, %d points > 1e-5 apart, max %.2g\n",
+           render_shape_name(shape), hits, same_prim, far, worst_p);
+    render_embree_free(rt);
+    render_mesh_free(&m);
+}
+
 int main(void)
 {
+    test_embree(RENDER_BLOB);
+    test_embree(RENDER_TORUS);
     test_listing1_plane();
     test_listing1_degenerate();
     test_mesh(RENDER_BLOB);

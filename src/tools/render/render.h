@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include "common/tool.h"
 #include "height_source.h"
+#include "bumpgrad/framework.h"
 
 /* Normal-perturbation methods of --method / --compare. */
 typedef enum render_method {
@@ -23,8 +24,16 @@ typedef enum render_method {
     RENDER_ADDITIVE = 5,         /* Perlin: normalize(n - grad h), Figure 2(a) */
     RENDER_FLAT = 6,             /* cross(tau_s, tau_t) of the displaced position, Figure 1(a) */
     RENDER_SURFGRAD_FOOTPRINT = 7, /* Listing 3 with no octave finer than the sample's footprint */
-    RENDER_METHOD_COUNT = 8
+    /* Height / normal textures on a mesh with UVs (render_textured.c): */
+    RENDER_LISTING1_HEIGHTMAP = 8,  /* Listing 1 fed by Listing 2 forward taps (quad ddx/ddy of st) */
+    RENDER_LISTING1_HEIGHTMAP_CENTRAL = 9, /* the same with Listing 2's central taps */
+    RENDER_NORMALMAP = 10,          /* tangent-space normal map, per-vertex tangent frames */
+    RENDER_SURFGRAD_HEIGHTMAP = 11, /* eq. 3 on the UV chart, bicubic texel derivatives */
+    RENDER_DETAIL = 12,             /* the Listing 1/2 height texture + turbulence, resolved */
+    RENDER_METHOD_COUNT = 13
 } render_method;
+/* 1 for the methods that need UVs and a height (or normal) texture. */
+int render_method_textured(render_method m);
 
 const char *render_method_name(render_method m);
 /* 0 and *out on success, -1 for an unknown name. */
@@ -44,6 +53,10 @@ typedef struct render_bvh_node {
 
 typedef struct render_mesh {
     size_t ntri;
+    float *uv;   /* 6 floats per triangle: (s, t) texture coordinates of the corners
+                    (s = u, t = 1 - v: the image's row direction), or NULL */
+    float *tan;  /* 12 floats per triangle: unit tangent (dP/ds) + sign of the
+                    bitangent (dP/dt = sign * n x t) per corner, or NULL */
     float *pos;  /* 9 floats per triangle: the three vertex positions */
     float *nrm;  /* 9 floats per triangle: the three unit vertex normals */
     float *face; /* 3 floats per triangle: unit face normal, on the side of the vertex normals */
@@ -56,6 +69,14 @@ typedef struct render_mesh {
  * 0 or BG_ERR_OUT_OF_MEMORY. */
 bg_status render_mesh_build(render_shape shape, int grid, render_mesh *m);
 void render_mesh_free(render_mesh *m);
+/* Take ownership of a triangle soup (pos, nrm 9 floats per triangle, uv 6 or
+ * NULL, tan 12 or NULL; malloc'ed) and compute the face normals. 0 or
+ * BG_ERR_OUT_OF_MEMORY (the arrays are freed on failure). */
+bg_status render_mesh_adopt(render_mesh *m, size_t ntri, float *pos, float *nrm, float *uv,
+                            float *tan);
+/* Build the median-split BVH (reorders the triangles). 0 or BG_ERR_OUT_OF_MEMORY
+ * (the mesh is freed on failure). */
+bg_status render_mesh_bvh(render_mesh *m);
 
 typedef struct render_hit {
     float t;
@@ -66,10 +87,43 @@ typedef struct render_hit {
 int render_mesh_intersect(const render_mesh *m, const float o[3], const float d[3], float tmax,
                           render_hit *hit);
 
+/* ---- Embree (render_embree.c; stubs that fail without BG_HAVE_EMBREE) ---- */
+typedef struct render_embree render_embree;
+/* 1 when the tool was built with Embree. */
+int render_embree_available(void);
+/* Build an Embree scene of the mesh's triangles (same prim ids and barycentrics
+ * as render_mesh_intersect); *build_seconds gets the BVH build's wall time.
+ * BG_ERR_INVALID_ARGUMENT without Embree, BG_ERR_OUT_OF_MEMORY on failure. */
+bg_status render_embree_build(const render_mesh *m, render_embree **out, double *build_seconds,
+                              bgt_err *e);
+void render_embree_free(render_embree *r);
+int render_embree_intersect(const render_embree *r, const float o[3], const float d[3],
+                            render_hit *hit);
+
+/* ---- textures of a mesh (render_textured.c) ---- */
+typedef struct render_textures {
+    bg_height_texture height; /* heights in [0, 1] (gray levels); texels NULL: none */
+    bg_height_texture nmap[3]; /* tangent-space normal, s/t/n components; texels NULL: none */
+    bg_height_texture albedo[3]; /* linear RGB; texels NULL: none */
+    float amplitude;  /* world height of a texel value 1 (the mesh fits the unit sphere) */
+    float st_scale;   /* texture coordinates multiplied by this (< 1 magnifies) */
+    float *owned[7];
+} render_textures;
+void render_textures_free(render_textures *t);
+/* dP/ds, dP/dt of triangle `prim` on its (scaled) UV chart; zero when its UVs
+ * are degenerate. */
+void render_tex_chart(const render_mesh *m, const render_textures *tx, int prim, float ds[3],
+                      float dt[3]);
+/* (s, t) of a point p of the plane of triangle `prim` (affine extension). */
+void render_tex_st(const render_mesh *m, const render_textures *tx, int prim, const float p[3],
+                   float st[2]);
+
 /* ---- scene and job (render_core.c) ---- */
 typedef struct render_scene {
     render_shape shape;
     const render_mesh *mesh; /* NULL for the sphere */
+    const render_embree *embree; /* non-NULL: rays through Embree instead of the BVH */
+    const render_textures *tex;  /* non-NULL: a loaded mesh with textures */
     float eye[3], fwd[3], right[3], up[3];
     float tan_half; /* tan(fov/2) / zoom */
     float light[3];
@@ -78,6 +132,8 @@ typedef struct render_scene {
 /* Camera on the +z side looking at the origin from `distance`, with a slight
  * elevation; `zoom` scales the focal length. */
 void render_scene_camera(render_scene *s, float distance, float zoom);
+/* The same camera looking at the origin from direction `view` (towards the eye). */
+void render_scene_camera_dir(render_scene *s, const float view[3], float distance, float zoom);
 
 #define RENDER_MAX_METHODS 8
 
@@ -90,6 +146,7 @@ typedef struct render_job {
     render_method methods[RENDER_MAX_METHODS];
     int threads;
     const bgt_progress *progress; /* may be NULL */
+    unsigned albedo_mask; /* bit k: method k is shaded with the albedo texture */
     /* outputs, allocated by render_run, freed by render_job_free: */
     float *rgb[RENDER_MAX_METHODS];   /* width*height_px*3 linear RGB per method */
     float *heat[RENDER_MAX_METHODS];  /* width*height_px mean angle error (deg), NaN for no hit */
@@ -111,7 +168,9 @@ typedef struct render_stats {
 bg_status render_stats_compute(const render_job *job, int k, render_stats *out); /* BG_OK or BG_ERR_OUT_OF_MEMORY */
 
 /* The presets of --preset: the paper's figures (docs/FIGURES.md). */
-typedef enum render_preset { PRESET_NONE = 0, PRESET_FIG1, PRESET_FIG2, PRESET_FIG3 } render_preset;
+typedef enum render_preset { PRESET_NONE = 0, PRESET_FIG1, PRESET_FIG2, PRESET_FIG3, PRESET_FIG4 } render_preset;
+
+typedef enum render_tracer { TRACER_AUTO = 0, TRACER_BVH = 1, TRACER_EMBREE = 2 } render_tracer;
 
 typedef struct render_opts {
     render_shape shape;
@@ -126,6 +185,19 @@ typedef struct render_opts {
     int sweep;   /* print the error against pixel density */
     const char *output;
     render_preset preset;
+    render_tracer tracer;
+    /* A mesh file (any format assimp reads) instead of the built-in scenes,
+     * and its textures (NULL: the ones its OBJ material names, if any). */
+    const char *mesh_path, *height_map, *normal_map, *albedo_map;
+    float tex_amplitude; /* height of texel value 1 in units of the mesh's bounding radius */
+    float st_scale;      /* texture-coordinate scale (< 1 magnifies the textures) */
+    int no_albedo;       /* do not shade with the albedo texture */
+    int view_set;        /* view[] given: camera direction (towards the eye) */
+    int zoom_set;        /* --zoom given; else a loaded mesh is framed automatically */
+    float view[3];
+    float fig4_zoom;     /* --preset fig4: magnification of the close-up panels (e), (f) */
+    float fig4_target[2]; /* and the image point (0..1, from the top left) they look at */
+    unsigned albedo_mask; /* set by render_image from no_albedo / the preset */
     bgt_height h;
     const bgt_progress *progress; /* may be NULL */
 } render_opts;
@@ -145,10 +217,16 @@ typedef struct render_sweep_row {
     render_stats st;
 } render_sweep_row;
 typedef struct render_result {
-    size_t triangles; /* of the isosurface, 0 for the sphere */
+    size_t triangles; /* of the isosurface or loaded mesh, 0 for the sphere */
+    const char *tracer;   /* "bvh", "embree" or "analytic" */
+    double build_seconds; /* acceleration structure build (BVH or Embree) */
+    double load_seconds;  /* mesh and texture loading */
+    double render_seconds;
+    char textures[512];   /* the textures used, for the report line */
     int nmethods;
     render_method methods[RENDER_MAX_METHODS];
     render_stats stats[RENDER_MAX_METHODS];
+    const char *labels[RENDER_MAX_METHODS]; /* panel captions (--preset fig4), or NULL */
     int out_width, out_height; /* of the written image */
     int nsweep;
     render_sweep_row sweep[RENDER_MAX_SWEEP * RENDER_MAX_METHODS];
@@ -159,6 +237,15 @@ typedef struct render_result {
  * panel when o->compare, write o->output through bg_image_write (temporary +
  * rename), and run the density sweep when o->sweep. */
 bg_status render_image(const render_opts *o, render_result *r, bgt_err *e);
+
+/* Load a mesh (bg_mesh_load) into a render_mesh centred at the origin and
+ * scaled to fit the unit sphere, with UVs and per-vertex tangents when the file
+ * has UVs, and its textures (render_textured.c). Errors name the file:
+ * BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT (exit 2) for a missing, unreadable
+ * or corrupt mesh or texture, or a textured method on a mesh without UVs.
+ * No BVH: the caller builds Embree's or render_mesh_bvh. */
+bg_status render_load_mesh(const render_opts *o, render_mesh *m,
+                           render_textures *t, char *desc, size_t desclen, bgt_err *e);
 
 /* ---- Listing 1 on one 2x2 quad (render_core.c; exposed for the unit test) ----
  * pos[lane][3], h[lane] for lanes 0 (x0,y0), 1 (x1,y0), 2 (x0,y1), 3 (x1,y1);

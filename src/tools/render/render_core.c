@@ -26,7 +26,8 @@
 
 static const char *const method_names[RENDER_METHOD_COUNT] = {
     "none", "surfgrad", "surfgrad-central", "listing1", "listing1-coarse", "additive", "flat",
-    "surfgrad-footprint"};
+    "surfgrad-footprint", "listing1-heightmap", "listing1-heightmap-central", "normalmap",
+    "surfgrad-heightmap", "detail"};
 
 const char *render_method_name(render_method m)
 {
@@ -59,10 +60,20 @@ void render_scene_camera(render_scene *s, float distance, float zoom)
 {
     /* A slight elevation shows the top of the objects, like the paper's views. */
     float dir[3] = {0.0f, 0.28f, 1.0f};
-    bg_f3_normalize(dir);
+    render_scene_camera_dir(s, dir, distance, zoom);
+}
+
+void render_scene_camera_dir(render_scene *s, const float view[3], float distance, float zoom)
+{
+    float dir[3] = {view[0], view[1], view[2]};
+    if (!bg_f3_normalize(dir))
+        dir[0] = 0, dir[1] = 0, dir[2] = 1;
     for (int a = 0; a < 3; a++)
         s->eye[a] = distance * dir[a], s->fwd[a] = -dir[a];
+    /* World up is +y, unless the view looks along it. */
     float wup[3] = {0, 1, 0};
+    if (fabsf(dir[1]) > 0.999f)
+        wup[1] = 0, wup[2] = -1;
     bg_f3_cross(s->fwd, wup, s->right);
     bg_f3_normalize(s->right);
     bg_f3_cross(s->right, s->fwd, s->up);
@@ -113,10 +124,11 @@ static void flat_normal(const float tau[4][3], const float pos[4][3], int lane, 
         out[0] = nf[0], out[1] = nf[1], out[2] = nf[2];
 }
 
+static const float grey_albedo[3] = {0.60f, 0.57f, 0.54f};
+
 static void shade(const render_scene *s, const float p[3], const float d[3], const float n[3],
-                  float rgb[3])
+                  const float albedo[3], float rgb[3])
 {
-    static const float albedo[3] = {0.60f, 0.57f, 0.54f};
     float L[3] = {s->light[0] - p[0], s->light[1] - p[1], s->light[2] - p[2]};
     bg_f3_normalize(L);
     float V[3] = {-d[0], -d[1], -d[2]}, H[3] = {L[0] + V[0], L[1] + V[1], L[2] + V[2]};
@@ -146,6 +158,9 @@ typedef struct tile_buf {
     /* quad neighbourhoods (Listing 1, flat): per sample 4 lanes */
     float *qp, *qh, *qn; /* 12, 4, 12 per sample */
     unsigned char *qok;  /* 4 per sample */
+    float *bc;           /* 2 per sample: barycentrics of the hit (vertices 1, 2) */
+    float *st, *qst;     /* 2 per sample, 8 per sample (quad lanes): texture coordinates */
+    float *gd;           /* 3 per sample: the detail's turbulence surface gradient */
     /* compacted batches */
     float *bx, *by, *bz, *bnx, *bny, *bnz, *bh, *box, *boy, *boz;
     int *bidx; /* batch entry -> sample*4 + lane (helpers) or sample */
@@ -155,7 +170,8 @@ static void tile_free(tile_buf *t)
 {
     void *ptrs[] = {t->dir, t->hit, t->prim, t->p,   t->n,   t->nf,  t->h,   t->ref,
                     t->out, t->qp,  t->qh,   t->qn,  t->qok, t->bx,  t->by,  t->bz,
-                    t->bnx, t->bny, t->bnz,  t->bh,  t->box, t->boy, t->boz, t->bidx};
+                    t->bnx, t->bny, t->bnz,  t->bh,  t->box, t->boy, t->boz, t->bidx,
+                    t->bc,  t->st,  t->qst,  t->gd};
     for (size_t i = 0; i < sizeof ptrs / sizeof ptrs[0]; i++)
         free(ptrs[i]);
     memset(t, 0, sizeof *t);
@@ -179,13 +195,18 @@ static int tile_alloc(tile_buf *t, int ts, int nmethods)
     t->qh = malloc(ns * 4 * sizeof(float));
     t->qn = malloc(ns * 12 * sizeof(float));
     t->qok = malloc(ns * 4);
+    t->bc = malloc(ns * 2 * sizeof(float));
+    t->st = malloc(ns * 2 * sizeof(float));
+    t->qst = malloc(ns * 8 * sizeof(float));
+    t->gd = malloc(ns * 3 * sizeof(float));
     float **b[] = {&t->bx, &t->by, &t->bz, &t->bnx, &t->bny, &t->bnz, &t->bh, &t->box, &t->boy, &t->boz};
     int ok = 1;
     for (size_t i = 0; i < sizeof b / sizeof b[0]; i++)
         ok &= (*b[i] = malloc(nb * sizeof(float))) != NULL;
     t->bidx = malloc(nb * sizeof(int));
     if (!ok || !t->dir || !t->hit || !t->prim || !t->p || !t->n || !t->nf || !t->h || !t->ref ||
-        !t->out || !t->qp || !t->qh || !t->qn || !t->qok || !t->bidx) {
+        !t->out || !t->qp || !t->qh || !t->qn || !t->qok || !t->bidx || !t->bc || !t->st ||
+        !t->qst || !t->gd) {
         tile_free(t);
         return -1;
     }
@@ -196,13 +217,16 @@ typedef struct run_ctx {
     render_job *job;
     int tiles_x, tiles_y;
     int need_quads;
+    int tex_ref; /* the reference is surfgrad-heightmap (a textured job) */
+    int need_detail;
+    int need_solid; /* some method uses the solid height at the hits (not texture-only) */
     atomic_int failed;
     atomic_size_t done;
     bgt_height analytic, central;
 } run_ctx;
 
 static int trace(const render_scene *s, const float d[3], float p[3], float n[3], float nf[3],
-                 int *prim)
+                 int *prim, float bc[2])
 {
     if (!s->mesh) {
         /* Unit sphere at the origin, solved in double: |e + t d|^2 = 1. */
@@ -222,10 +246,12 @@ static int trace(const render_scene *s, const float d[3], float p[3], float n[3]
         bg_f3_normalize(n);
         memcpy(nf, n, 3 * sizeof(float));
         *prim = 0;
+        bc[0] = bc[1] = 0.0f;
         return 1;
     }
     render_hit h;
-    if (!render_mesh_intersect(s->mesh, s->eye, d, INFINITY, &h))
+    if (s->embree ? !render_embree_intersect(s->embree, s->eye, d, &h)
+                  : !render_mesh_intersect(s->mesh, s->eye, d, INFINITY, &h))
         return 0;
     const float *P = s->mesh->pos + (size_t)h.prim * 9, *N = s->mesh->nrm + (size_t)h.prim * 9;
     float b0 = 1.0f - h.b1 - h.b2;
@@ -238,8 +264,79 @@ static int trace(const render_scene *s, const float d[3], float p[3], float n[3]
     }
     if (!bg_f3_normalize(n))
         memcpy(n, nf, 3 * sizeof(float));
+    if (s->tex) {
+        /* A user's mesh may be open or wound either way: the face normal goes
+         * to the side of the vertex normals, and both face the viewer (two-sided). */
+        if (bg_f3_dot(nf, n) < 0)
+            nf[0] = -nf[0], nf[1] = -nf[1], nf[2] = -nf[2];
+        if (bg_f3_dot(nf, d) > 0)
+            for (int a = 0; a < 3; a++)
+                nf[a] = -nf[a], n[a] = -n[a];
+    }
     *prim = h.prim;
+    bc[0] = h.b1, bc[1] = h.b2;
     return 1;
+}
+
+/* ---- texture methods (Mikkelsen 2010 section 6, Figure 4) ---- */
+static bg_vec3 v3(const float a[3]) { return (bg_vec3){a[0], a[1], a[2]}; }
+static void put3(bg_vec3 v, float o[3]) { o[0] = v.x, o[1] = v.y, o[2] = v.z; }
+
+/* Eq. 3 on the triangle's UV chart: sigma_s = dP/ds, sigma_t = dP/dt, and the
+ * height texture's derivatives along s and t from the reference's bicubic
+ * (high-quality magnification) derivative, per texel times the texel count. */
+static bg_vec3 tex_surfgrad(const render_scene *S, int prim, const float st[2], const float n[3])
+{
+    const render_textures *X = S->tex;
+    float ds[3], dt[3];
+    render_tex_chart(S->mesh, X, prim, ds, dt);
+    bg_vec2 d = bg_height_texture_derivs_bicubic(&X->height, (bg_vec2){st[0], st[1]});
+    return bg_surfgrad_from_param_derivs(v3(n), v3(ds), v3(dt),
+                                         X->amplitude * d.x * (float)X->height.width,
+                                         X->amplitude * d.y * (float)X->height.height);
+}
+
+/* Listing 1's inputs on the quad: sigma_s, sigma_t = ddx_fine/ddy_fine of the
+ * position (the lane's row / column pair, as render_listing1), and Listing 2's
+ * taps along ddx/ddy of the texture coordinate, height per pixel. */
+static void quad_listing2(const render_scene *S, const float qp[4][3], const float qst[4][2],
+                          int lane, bg_diff_mode mode, float sS[3], float sT[3], float dB[2])
+{
+    int lx = lane & 1, ly = lane >> 1, r = 2 * ly, c = lx;
+    for (int a = 0; a < 3; a++)
+        sS[a] = qp[r + 1][a] - qp[r][a], sT[a] = qp[c + 2][a] - qp[c][a];
+    bg_vec2 dx = {qst[r + 1][0] - qst[r][0], qst[r + 1][1] - qst[r][1]};
+    bg_vec2 dy = {qst[c + 2][0] - qst[c][0], qst[c + 2][1] - qst[c][1]};
+    bg_vec2 d = bg_height_texture_derivs(&S->tex->height, mode,
+                                         (bg_vec2){qst[lane][0], qst[lane][1]}, dx, dy);
+    dB[0] = S->tex->amplitude * d.x, dB[1] = S->tex->amplitude * d.y;
+}
+
+/* Tangent-space normal mapping with the interpolated per-vertex frame: t from
+ * the vertex tangents made orthogonal to n, b = sign n x t, and the map's
+ * normal as a surface gradient (bg_surfgrad_from_tangent_normal) resolved. */
+static bg_vec3 tex_normalmap(const render_scene *S, int prim, const float bc[2], const float st[2],
+                             const float n[3])
+{
+    const render_textures *X = S->tex;
+    const float *T4 = S->mesh->tan + (size_t)prim * 12;
+    float b0 = 1.0f - bc[0] - bc[1], t[3], sign = T4[3];
+    for (int a = 0; a < 3; a++)
+        t[a] = b0 * T4[a] + bc[0] * T4[4 + a] + bc[1] * T4[8 + a];
+    float dn = bg_f3_dot(t, n);
+    for (int a = 0; a < 3; a++)
+        t[a] -= dn * n[a];
+    if (!bg_f3_normalize(t))
+        return v3(n);
+    float b[3];
+    bg_f3_cross(n, t, b);
+    for (int a = 0; a < 3; a++)
+        b[a] *= sign;
+    bg_vec2 q = {st[0], st[1]};
+    bg_vec3 m = {bg_height_texture_sample(&X->nmap[0], q), bg_height_texture_sample(&X->nmap[1], q),
+                 bg_height_texture_sample(&X->nmap[2], q)};
+    bg_vec3 g = bg_surfgrad_from_tangent_normal(v3(t), v3(b), m);
+    return bg_resolve_normal(v3(n), &g, NULL, 1);
 }
 
 static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
@@ -265,7 +362,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 d[a] = S->fwd[a] + u * S->right[a] + v * S->up[a];
             bg_f3_normalize(d);
             T->hit[k] = (unsigned char)trace(S, d, T->p + k * 3, T->n + k * 3, T->nf + k * 3,
-                                             &T->prim[k]);
+                                             &T->prim[k], T->bc + k * 2);
         }
 
     /* 2. Heights and the reference (analytic surfgrad, Listing 3) in one batch. */
@@ -276,12 +373,80 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1], T->bnz[nb] = T->n[k * 3 + 2];
             T->bidx[nb++] = (int)k;
         }
+    if (!C->need_solid)
+        nb = 0; /* a texture-only job: the solid height is not used */
     bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
                        T->bnz, nb, T->bh, T->box, T->boy, T->boz);
     for (size_t b = 0; b < nb; b++) {
         size_t k = (size_t)T->bidx[b];
         T->h[k] = T->bh[b];
         T->ref[k * 3] = T->box[b], T->ref[k * 3 + 1] = T->boy[b], T->ref[k * 3 + 2] = T->boz[b];
+    }
+
+    /* 2b. Texture coordinates of the hits; the reference of a textured job is
+     * eq. 3 on the UV chart (surfgrad-heightmap). */
+    const int textured = S->tex && S->mesh && S->mesh->uv;
+    if (textured)
+        for (size_t k = 0; k < ns; k++) {
+            if (!T->hit[k])
+                continue;
+            const float *UV = S->mesh->uv + (size_t)T->prim[k] * 6, *bc = T->bc + k * 2;
+            float b0 = 1.0f - bc[0] - bc[1];
+            for (int c = 0; c < 2; c++)
+                T->st[k * 2 + c] =
+                    (b0 * UV[c] + bc[0] * UV[2 + c] + bc[1] * UV[4 + c]) * S->tex->st_scale;
+            if (C->tex_ref && S->tex->height.texels) {
+                bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, T->n + k * 3);
+                put3(bg_resolve_normal(v3(T->n + k * 3), &g, NULL, 1), T->ref + k * 3);
+            } else if (C->tex_ref && S->tex->nmap[0].texels) {
+                /* Only a normal map: it is its own reference. */
+                put3(tex_normalmap(S, T->prim[k], T->bc + k * 2, T->st + k * 2, T->n + k * 3),
+                     T->ref + k * 3);
+            } else if (C->tex_ref) {
+                memcpy(T->ref + k * 3, T->n + k * 3, 3 * sizeof(float));
+            }
+        }
+
+    /* 2c. The detail map of `detail`: the solid turbulence's surface gradient
+     * with no octave finer than the sample's footprint, which comes from the
+     * ray differentials at the hit (bg_ray_differentials on the face plane). */
+    if (C->need_detail && textured) {
+        const float dxs = 2.0f * aspect * S->tan_half / (float)SW, dys = -2.0f * S->tan_half / (float)SH;
+        nb = 0;
+        for (size_t k = 0; k < ns; k++)
+            if (T->hit[k]) {
+                const float *p = T->p + k * 3, *n = T->n + k * 3, *d = T->dir + k * 3;
+                /* d is unit: its derivative is (dD - d (d . dD)) / |D|, |D| = 1 / (d . fwd). */
+                float invD = bg_f3_dot(d, S->fwd), ddx[3], ddy[3];
+                float ddotx = dxs * bg_f3_dot(d, S->right), ddoty = dys * bg_f3_dot(d, S->up);
+                for (int a = 0; a < 3; a++) {
+                    ddx[a] = (dxs * S->right[a] - d[a] * ddotx) * invD;
+                    ddy[a] = (dys * S->up[a] - d[a] * ddoty) * invD;
+                }
+                bg_vec3 dpdx, dpdy;
+                bg_ray_differentials(v3(p), v3(T->nf + k * 3), v3(S->eye), v3(d), v3(ddx), v3(ddy),
+                                     &dpdx, &dpdy);
+                float fx = sqrtf(dpdx.x * dpdx.x + dpdx.y * dpdx.y + dpdx.z * dpdx.z);
+                float fy = sqrtf(dpdy.x * dpdy.x + dpdy.y * dpdy.y + dpdy.z * dpdy.z);
+                T->bh[nb] = fx > fy ? fx : fy;
+                T->bx[nb] = p[0], T->by[nb] = p[1], T->bz[nb] = p[2];
+                T->bnx[nb] = n[0], T->bny[nb] = n[1], T->bnz[nb] = n[2];
+                T->bidx[nb++] = (int)k;
+            }
+        if (C->analytic.grid_path)
+            bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx,
+                               T->bny, T->bnz, nb, NULL, T->box, T->boy, T->boz);
+        else
+            bg_perturb_height_footprint_batch(&C->analytic.h, BG_PERTURB_SURFGRAD, T->bh, T->bx,
+                                              T->by, T->bz, T->bnx, T->bny, T->bnz, nb, NULL,
+                                              T->box, T->boy, T->boz);
+        for (size_t b = 0; b < nb; b++) {
+            size_t k = (size_t)T->bidx[b];
+            /* The perturbed normal back to its surface gradient (exact for m . n > 0). */
+            bg_vec3 g = bg_surfgrad_from_perturbed_normal(
+                v3(T->n + k * 3), (bg_vec3){T->box[b], T->boy[b], T->boz[b]});
+            put3(g, T->gd + k * 3);
+        }
     }
 
     /* 3. Quad neighbourhoods for the screen-space methods. A lane covered by the
@@ -338,7 +503,19 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 T->bidx[nh++] = (int)(k * 4 + (size_t)l);
             }
         }
+        /* Texture coordinates of the four lanes: the affine extension of the
+         * centre sample's triangle, which is what a GPU interpolates for the
+         * lanes of a quad (covered or helper) while shading that triangle. */
+        if (textured)
+            for (size_t k = 0; k < ns; k++)
+                if (T->hit[k])
+                    for (int l = 0; l < 4; l++)
+                        if (T->qok[k * 4 + l])
+                            render_tex_st(S->mesh, S->tex, T->prim[k], T->qp + k * 12 + l * 3,
+                                          T->qst + k * 8 + l * 2);
         /* Helper-lane heights, one batch (gradients unused: scratch). */
+        if (!C->need_solid)
+            nh = 0;
         bgt_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
         for (size_t b = 0; b < nh; b++)
             T->qh[T->bidx[b]] = T->bh[b];
@@ -416,6 +593,37 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 else
                     memcpy(o, n, 3 * sizeof(float));
                 break;
+            case RENDER_SURFGRAD_HEIGHTMAP: {
+                bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, n);
+                put3(bg_resolve_normal(v3(n), &g, NULL, 1), o);
+                break;
+            }
+            case RENDER_NORMALMAP:
+                put3(tex_normalmap(S, T->prim[k], T->bc + k * 2, T->st + k * 2, n), o);
+                break;
+            case RENDER_LISTING1_HEIGHTMAP:
+            case RENDER_LISTING1_HEIGHTMAP_CENTRAL:
+            case RENDER_DETAIL: {
+                if (!quad_ok) {
+                    memcpy(o, n, 3 * sizeof(float));
+                    break;
+                }
+                float sS[3], sT[3], dB[2];
+                quad_listing2(S, (const float(*)[3])(T->qp + k * 12),
+                              (const float(*)[2])(T->qst + k * 8), lane,
+                              M == RENDER_LISTING1_HEIGHTMAP_CENTRAL ? BG_DIFF_CENTRAL : BG_DIFF_FORWARD,
+                              sS, sT, dB);
+                if (M != RENDER_DETAIL) {
+                    put3(bg_listing1_normal(v3(n), v3(sS), v3(sT), dB[0], dB[1]), o);
+                    break;
+                }
+                /* Figure 4(f): the texture's gradient (Listing 1 as eq. 3 on the
+                 * screen chart) plus the turbulence detail, one resolve. */
+                bg_vec3 g[2] = {bg_surfgrad_from_screen_derivs(v3(n), v3(sS), v3(sT), dB[0], dB[1]),
+                                v3(T->gd + k * 3)};
+                put3(bg_resolve_normal(v3(n), g, NULL, 2), o);
+                break;
+            }
             case RENDER_FLAT: {
                 float tau[4][3];
                 const float *qp = T->qp + k * 12, *qn = T->qn + k * 12;
@@ -441,6 +649,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
     const float inv = 1.0f / (float)(ss * ss);
     for (int mi = 0; mi < J->nmethods; mi++) {
         const float *out = T->out + (size_t)mi * ns * 3;
+        const int use_albedo = textured && (J->albedo_mask >> mi & 1u) && S->tex->albedo[0].texels;
         for (int py = py0; py < py0 + TILE && py < J->height_px; py++)
             for (int px = px0; px < px0 + TILE && px < J->width; px++) {
                 float acc[3] = {0, 0, 0}, esum = 0;
@@ -453,7 +662,15 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                         float c[3];
                         if (T->hit[k]) {
                             const float *o = out + k * 3;
-                            shade(S, T->p + k * 3, T->dir + k * 3, o, c);
+                            float alb[3];
+                            if (use_albedo) {
+                                bg_vec2 q = {T->st[k * 2], T->st[k * 2 + 1]};
+                                for (int a = 0; a < 3; a++)
+                                    alb[a] = bg_height_texture_sample(&S->tex->albedo[a], q);
+                            } else {
+                                memcpy(alb, grey_albedo, sizeof alb);
+                            }
+                            shade(S, T->p + k * 3, T->dir + k * 3, o, alb, c);
                             bg_vec3 a = {o[0], o[1], o[2]}, b = {T->ref[k * 3], T->ref[k * 3 + 1],
                                                                  T->ref[k * 3 + 2]};
                             float e = (float)bg_angle_deg(a, b);
@@ -527,8 +744,16 @@ bg_status render_run(render_job *job)
     C.tiles_y = (job->height_px + TILE - 1) / TILE;
     for (int i = 0; i < job->nmethods; i++)
         if (job->methods[i] == RENDER_LISTING1 || job->methods[i] == RENDER_LISTING1_COARSE ||
-            job->methods[i] == RENDER_FLAT)
+            job->methods[i] == RENDER_FLAT || job->methods[i] == RENDER_LISTING1_HEIGHTMAP ||
+            job->methods[i] == RENDER_LISTING1_HEIGHTMAP_CENTRAL || job->methods[i] == RENDER_DETAIL)
             C.need_quads = 1;
+    for (int i = 0; i < job->nmethods; i++) {
+        C.tex_ref |= render_method_textured(job->methods[i]);
+        C.need_detail |= job->methods[i] == RENDER_DETAIL;
+        C.need_solid |= !render_method_textured(job->methods[i]) && job->methods[i] != RENDER_NONE;
+    }
+    if (!C.tex_ref)
+        C.need_solid = 1; /* the reference is the solid surfgrad */
     /* The reference is always the analytic gradient; surfgrad-central always
      * differences (with the --step the user gave). */
     C.analytic = *job->height;

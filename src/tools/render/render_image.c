@@ -10,9 +10,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <time.h>
 #include <unistd.h>
 #include "bumpgrad/image.h"
 #include "render/render.h"
+#include "vecmath.h"
 
 void render_opts_default(render_opts *o)
 {
@@ -28,6 +30,10 @@ void render_opts_default(render_opts *o)
     o->light[0] = -5.0f, o->light[1] = 4.0f, o->light[2] = 3.0f;
     o->nmethods = 1;
     o->methods[0] = RENDER_SURFGRAD;
+    o->tex_amplitude = 0.004f;
+    o->st_scale = 1.0f;
+    o->fig4_zoom = 12.0f;
+    o->fig4_target[0] = 0.70f, o->fig4_target[1] = 0.42f;
     bgt_height_init(&o->h);
     /* A default that reads well on the unit sphere: detail a few pixels wide. */
     o->h.h.frequency = 1.0f;
@@ -76,6 +82,24 @@ void render_apply_preset(render_opts *o)
         o->methods[0] = RENDER_LISTING1, o->methods[1] = RENDER_SURFGRAD;
         o->closeup = 4;
         o->sweep = 1;
+        break;
+    case PRESET_FIG4:
+        /* Figure 4: a textured model (assimp-testmodels' spider by default),
+         * Listing 1 with its height texture against normal mapping, the
+         * unperturbed model, the albedo, and a close-up where the magnified
+         * texture turns piecewise flat, then hidden by turbulence detail. */
+        if (!o->mesh_path)
+            o->mesh_path = "/usr/share/assimp/models/OBJ/spider.obj";
+        o->width = o->height = 256;
+        h->fractal = bg_fractal_default(BG_FUNC_TURBULENCE);
+        h->frequency = 24.0f;
+        h->amplitude = 0.0015f;
+        o->tex_amplitude = 0.008f;
+        o->nmethods = 6, o->compare = 1;
+        o->methods[0] = RENDER_LISTING1_HEIGHTMAP, o->methods[1] = RENDER_NORMALMAP;
+        o->methods[2] = RENDER_NONE, o->methods[3] = RENDER_LISTING1_HEIGHTMAP;
+        o->methods[4] = RENDER_LISTING1_HEIGHTMAP, o->methods[5] = RENDER_DETAIL;
+        o->heat_max = 10.0f;
         break;
     case PRESET_NONE:
         break;
@@ -135,8 +159,47 @@ static void label(render_canvas *c, int x, int y, int size, const char *text, co
 
 /* The panel: one column per method; row 1 the renders, row 2 (optional) the
  * magnified crops, last row the heat maps of the error against surfgrad. */
+/* Greedy word wrap of the parameter stamp into at most 4 lines of `maxc` characters. */
+static int wrap_stamp(const char *text, int maxc, char lines[4][256])
+{
+    int n = 0;
+    const char *s = text;
+    if (maxc < 8)
+        maxc = 8;
+    if (maxc > 255)
+        maxc = 255;
+    while (*s && n < 4) {
+        while (*s == ' ')
+            s++;
+        int len = (int)strlen(s), cut = len;
+        if (len > maxc) {
+            cut = maxc;
+            while (cut > 0 && s[cut] != ' ')
+                cut--;
+            if (cut == 0)
+                cut = maxc;
+        }
+        if (cut < 1 || cut > 255)
+            cut = cut < 1 ? 1 : 255;
+        memcpy(lines[n], s, (size_t)cut);
+        lines[n][cut] = '\0';
+        if (cut > 0)
+            n++;
+        s += cut;
+    }
+    return n;
+}
+
+/* Character budget of a line of width w at label size `size` (the bitmap font's
+ * 6 px per character at size 8, which the FreeType font does not exceed). */
+static int stamp_chars(int w, int size)
+{
+    int bitmap = 6 * (size / 8 > 0 ? size / 8 : 1), freetype = (size * 3 + 3) / 4;
+    return w / (bitmap > freetype ? bitmap : freetype);
+}
+
 static bg_status compose_panel(const render_opts *o, const render_job *job, const render_stats *st,
-                               render_canvas *c, bgt_err *e)
+                               const char *stamp, const char *ref_name, render_canvas *c, bgt_err *e)
 {
     static const float bgc[3] = {0.0f, 0.0f, 0.0f}, fg[3] = {0.85f, 0.85f, 0.85f};
     static const float inward_color[3] = {0.0f, 0.85f, 1.0f};
@@ -144,8 +207,13 @@ static bg_status compose_panel(const render_opts *o, const render_job *job, cons
     const int fsz = W >= 256 ? 16 : W >= 128 ? 10 : 8; /* label font height in pixels */
     const int pad = 4, lab = fsz + 6, rows = o->closeup ? 3 : 2;
     const int cw = W + pad, ch = lab + H + pad;
-    const int bar = lab + 10;
-    if (render_canvas_alloc(c, n * cw + pad, rows * ch + pad + bar, bgc))
+    /* Colour bar (8 px), tick marks (4 px), tick values and caption (a label
+     * row each), then the render parameters stamped in up to 4 lines. */
+    const int bar = 12 + 2 * lab + 2;
+    char lines[4][256];
+    const int stamp_size = fsz >= 16 ? 12 : 8, stamp_lab = stamp_size + 4;
+    const int nlines = stamp ? wrap_stamp(stamp, stamp_chars(n * cw - pad, stamp_size), lines) : 0;
+    if (render_canvas_alloc(c, n * cw + pad, rows * ch + pad + bar + nlines * stamp_lab, bgc))
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     float *heat = malloc((size_t)W * H * 3 * sizeof(float));
     float *crop = NULL;
@@ -234,11 +302,29 @@ static bg_status compose_panel(const render_opts *o, const render_job *job, cons
         for (int j = 0; j < 8; j++)
             memcpy(c->rgb + ((size_t)(y0 + j) * c->w + x0 + i) * 3, col, sizeof col);
     }
-    snprintf(text, sizeof text, "angle to surfgrad 0..%g deg", (double)o->heat_max);
+    /* Ticks at 0, 1/4, .. 1 of the range, with their values. */
+    for (int k = 0; k <= 4; k++) {
+        int tx = x0 + (int)lround((double)(bw - 1) * k / 4.0);
+        for (int j = 8; j < 12; j++)
+            for (int dx = 0; dx < 2; dx++) {
+                int px = tx + (k == 4 ? -dx : dx);
+                if (px < 0 || px >= c->w || y0 + j >= c->h)
+                    continue;
+                float *dst = c->rgb + ((size_t)(y0 + j) * (size_t)c->w + (size_t)px) * 3;
+                dst[0] = fg[0], dst[1] = fg[1], dst[2] = fg[2];
+            }
+        snprintf(text, sizeof text, "%g", (double)o->heat_max * k / 4.0);
+        int w = render_text_width(text, fsz / 8 > 0 ? fsz / 8 : 1);
+        int lx = k == 0 ? tx : k == 4 ? tx - w : tx - w / 2;
+        label(c, lx, y0 + 12, fsz, text, fg);
+    }
+    snprintf(text, sizeof text, "angle to %s (deg)", ref_name);
     int tw = render_text_width(text, 1);
-    label(c, x0, y0 + 10, fsz, text, fg);
+    label(c, x0, y0 + 12 + lab, fsz, text, fg);
     if (bw > 2 * tw * fsz / 8 + 80)
-        label(c, x0 + bw / 2, y0 + 10, fsz, "cyan: inward", inward_color);
+        label(c, x0 + bw / 2, y0 + 12 + lab, fsz, "cyan: inward", inward_color);
+    for (int i = 0; i < nlines; i++)
+        label(c, x0, y0 + bar + i * stamp_lab, stamp_size, lines[i], fg);
     free(heat);
     free(crop);
     return BG_OK;
@@ -255,6 +341,7 @@ static void fill_job(const render_opts *o, const render_scene *scene, render_job
     memcpy(job->methods, o->methods, sizeof o->methods);
     job->threads = o->threads;
     job->progress = o->progress;
+    job->albedo_mask = o->albedo_mask;
 }
 
 /* Section 6: Listing 1 "depends on the pixel density across the surface
@@ -295,14 +382,107 @@ static bg_status density_sweep(const render_opts *o, const render_scene *scene, 
     return 0;
 }
 
-bg_status render_image(const render_opts *o, render_result *r, bgt_err *e)
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The parameters of the render, stamped under the panels (issue 15 item 6). */
+static void make_stamp(const render_opts *o, const render_result *r, char *out, size_t len)
+{
+    const bg_height *h = &o->h.h;
+    static const char *const fn[] = {"noise", "fbm", "turbulence", "ridged"};
+    size_t n = 0;
+    if (o->mesh_path) {
+        const char *base = strrchr(o->mesh_path, '/');
+        n += (size_t)snprintf(out + n, len - n, "mesh=%s (%zu tri) tex-amplitude=%g st-scale=%g",
+                              base ? base + 1 : o->mesh_path, r->triangles,
+                              (double)o->tex_amplitude, (double)o->st_scale);
+    } else {
+        n += (size_t)snprintf(out + n, len - n, "scene=%s", render_shape_name(o->shape));
+        if (o->shape != RENDER_SPHERE && n < len)
+            n += (size_t)snprintf(out + n, len - n, " grid=%d (%zu tri)", o->grid, r->triangles);
+    }
+    if (n < len)
+        n += (size_t)snprintf(out + n, len - n,
+                              " | %dx%d spp=%d | %s octaves=%d frequency=%g amplitude=%g | "
+                              "light=%g,%g,%g distance=%g zoom=%g | tracer=%s",
+                              o->width, o->height, o->ss * o->ss,
+                              (unsigned)h->fractal.function < 4 ? fn[h->fractal.function] : "?",
+                              h->fractal.octaves, (double)h->frequency, (double)h->amplitude,
+                              (double)o->light[0], (double)o->light[1], (double)o->light[2],
+                              (double)o->distance, (double)o->zoom, r->tracer);
+}
+
+/* Figure 4: six renders in two rows of three, each labelled with the paper's
+ * caption and its mean angle to surfgrad-heightmap, then the stamp. */
+static const char *const fig4_caption[6] = {
+    "(a) Listing 1, height map", "(b) normal mapping", "(c) no perturbation",
+    "(d) Listing 1 + albedo",    "(e) undersampling",  "(f) with detail"};
+static const char *const fig4_sub[6] = {
+    "Listing 2 taps", "per-vertex tangents", "unperturbed normals", "albedo texture",
+    "close-up, magnified texture", "+ turbulence, resolved"};
+
+static bg_status compose_fig4(const render_job *full, const render_job *close,
+                              const render_stats *st, const char *stamp, render_canvas *c,
+                              bgt_err *e)
+{
+    static const float bgc[3] = {0.0f, 0.0f, 0.0f}, fg[3] = {0.85f, 0.85f, 0.85f};
+    const int W = full->width, H = full->height_px;
+    const int fsz = W >= 256 ? 16 : W >= 128 ? 10 : 8, pad = 4, lab = fsz + 6;
+    const int cw = W + pad, ch = 2 * lab + H + pad;
+    char lines[4][256];
+    const int stamp_size = fsz >= 16 ? 12 : 8, stamp_lab = stamp_size + 4;
+    const int nlines = wrap_stamp(stamp, stamp_chars(3 * cw - pad, stamp_size), lines);
+    if (render_canvas_alloc(c, 3 * cw + pad, 2 * ch + pad + nlines * stamp_lab + 2, bgc))
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    char text[160];
+    for (int k = 0; k < 6; k++) {
+        int x = pad + (k % 3) * cw, y = pad + (k / 3) * ch;
+        const render_job *J = k < 4 ? full : close;
+        int m = k < 4 ? k : k - 4;
+        label(c, x, y, fsz, fig4_caption[k], fg);
+        if (k == 2 || k == 3)
+            snprintf(text, sizeof text, "%s", fig4_sub[k]);
+        else
+            snprintf(text, sizeof text, "%s, %.2f deg", fig4_sub[k], st[k].mean_deg);
+        label(c, x, y + lab, fsz * 3 / 4 > 8 ? fsz * 3 / 4 : 8, text, fg);
+        render_canvas_blit(c, x, y + 2 * lab, J->rgb[m], W, H, 1);
+    }
+    for (int i = 0; i < nlines; i++)
+        label(c, pad, 2 * ch + pad + i * stamp_lab, stamp_size, lines[i], fg);
+    return BG_OK;
+}
+
+static bg_status write_image(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
+                             bgt_err *e)
+{
+    char err[512];
+    bg_status rc = bg_image_write(path, img, type, srgb, err, sizeof err);
+    if (rc != BG_OK)
+        /* Any write failure is a failed run (exit 1), whatever the shim says. */
+        return bgt_fail(e, rc == BG_ERR_OUT_OF_MEMORY ? rc : BG_ERR_IO, "%s", err);
+    return BG_OK;
+}
+
+bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
 {
     bg_pixel_type type = BG_PIXEL_U8;
     int srgb = 1;
     bg_status rc;
     memset(r, 0, sizeof *r);
+    render_opts oo = *o_in, *o = &oo;
     if ((rc = check_output(o->output, &type, &srgb, e)) != BG_OK)
         return rc;
+    for (int m = 0; m < o->nmethods; m++)
+        if (render_method_textured(o->methods[m]) && !o->mesh_path)
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "method %s needs --mesh FILE (a mesh with texture coordinates)",
+                            render_method_name(o->methods[m]));
+    if (o->preset == PRESET_FIG4 && o->sweep)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--sweep does not apply to --preset fig4");
     if ((rc = bgt_io_ready(e)) != BG_OK)
         return rc;
     {
@@ -318,59 +498,182 @@ bg_status render_image(const render_opts *o, render_result *r, bgt_err *e)
 
     render_mesh mesh;
     memset(&mesh, 0, sizeof mesh);
+    render_textures tex;
+    memset(&tex, 0, sizeof tex);
+    render_embree *rtc = NULL;
     render_scene scene;
     memset(&scene, 0, sizeof scene);
     scene.shape = o->shape;
-    if (o->shape != RENDER_SPHERE) {
+    /* The tracer: Embree for a loaded mesh when built with it; the built-in
+     * isosurfaces keep their BVH unless --tracer embree (docs/FIGURES.md has
+     * the measurements and the agreement between the two). */
+    int use_embree = o->tracer == TRACER_EMBREE ||
+                     (o->tracer == TRACER_AUTO && o->mesh_path && render_embree_available());
+    double t0 = now_seconds();
+    if (o->mesh_path) {
+        if ((rc = render_load_mesh(o, &mesh, &tex, r->textures, sizeof r->textures, e)) != BG_OK)
+            return rc;
+        scene.mesh = &mesh;
+        scene.tex = &tex;
+        if (o->preset == PRESET_FIG4)
+            o->albedo_mask = 1u << 3;
+        else
+            o->albedo_mask = o->no_albedo ? 0u : ~0u;
+    }
+    r->load_seconds = now_seconds() - t0;
+    if (!o->mesh_path && o->shape != RENDER_SPHERE) {
+        /* Timed with its BVH: build_s of the isosurface is marching tetrahedra + BVH. */
+        double tb = now_seconds();
         if (render_mesh_build(o->shape, o->grid, &mesh))
             return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "cannot build the %s mesh: out of memory",
                             render_shape_name(o->shape));
+        r->load_seconds = now_seconds() - tb;
         scene.mesh = &mesh;
     }
-    render_scene_camera(&scene, o->distance, o->zoom);
+    if (scene.mesh && use_embree) {
+        if ((rc = render_embree_build(&mesh, &rtc, &r->build_seconds, e)) != BG_OK) {
+            render_mesh_free(&mesh);
+            render_textures_free(&tex);
+            return rc;
+        }
+        scene.embree = rtc;
+        r->tracer = "embree";
+    } else if (scene.mesh) {
+        if (o->mesh_path) {
+            double tb = now_seconds();
+            if (render_mesh_bvh(&mesh) != BG_OK) {
+                render_textures_free(&tex);
+                return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the BVH");
+            }
+            r->build_seconds = now_seconds() - tb;
+        }
+        r->tracer = "bvh";
+    } else {
+        r->tracer = "analytic";
+    }
+    if (o->view_set)
+        render_scene_camera_dir(&scene, o->view, o->distance, o->zoom);
+    else
+        render_scene_camera(&scene, o->distance, o->zoom);
     memcpy(scene.light, o->light, sizeof scene.light);
+    if (o->mesh_path && !o->zoom_set) {
+        /* Automatic framing: the zoom at which the mesh's silhouette (its
+         * vertices' projections) fills 90% of the image's shorter half-extent. */
+        const float aspect = (float)o->width / (float)o->height;
+        float need = 0;
+        for (size_t i = 0; i < mesh.ntri * 3; i++) {
+            const float *p = mesh.pos + i * 3;
+            float w[3] = {p[0] - scene.eye[0], p[1] - scene.eye[1], p[2] - scene.eye[2]};
+            float z = bg_f3_dot(w, scene.fwd);
+            if (!(z > 1e-3f))
+                continue;
+            float x = fabsf(bg_f3_dot(w, scene.right)) / (z * aspect), y = fabsf(bg_f3_dot(w, scene.up)) / z;
+            need = fmaxf(need, fmaxf(x, y));
+        }
+        if (need > 0) {
+            o->zoom = 0.36397023f / (need / 0.9f);
+            if (o->view_set)
+                render_scene_camera_dir(&scene, o->view, o->distance, o->zoom);
+            else
+                render_scene_camera(&scene, o->distance, o->zoom);
+            memcpy(scene.light, o->light, sizeof scene.light);
+        }
+    }
 
     r->triangles = scene.mesh ? mesh.ntri : 0;
 
-    render_job job;
+    render_job job, job2;
+    memset(&job2, 0, sizeof job2);
+    render_scene close_scene = scene;
+    const int fig4 = o->preset == PRESET_FIG4;
     fill_job(o, &scene, &job, o->width, o->height, o->ss);
+    if (fig4)
+        job.nmethods = 4;
     render_stats st[RENDER_MAX_METHODS];
     render_canvas canvas = {0, 0, NULL};
+    char stamp[640];
     rc = BG_OK;
+    double tr = now_seconds();
     if (render_run(&job)) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
         goto done;
     }
-    for (int m = 0; m < job.nmethods; m++) {
-        if (render_stats_compute(&job, m, &st[m])) {
+    if (fig4) {
+        /* (e), (f): the same model seen through a longer lens, so that the
+         * height texture is magnified until its bilinear reconstruction is
+         * piecewise flat (section 6). */
+        if (o->view_set)
+            render_scene_camera_dir(&close_scene, o->view, o->distance, o->zoom * o->fig4_zoom);
+        else
+            render_scene_camera(&close_scene, o->distance, o->zoom * o->fig4_zoom);
+        memcpy(close_scene.light, o->light, sizeof close_scene.light);
+        /* Aimed at the surface under (fig4_target) of the full view (the
+         * spider's abdomen): the camera moves parallel to itself onto it. */
+        {
+            const float aspect = (float)o->width / (float)o->height;
+            float u = (2.0f * o->fig4_target[0] - 1.0f) * aspect * scene.tan_half;
+            float v = (1.0f - 2.0f * o->fig4_target[1]) * scene.tan_half, d[3];
+            for (int a = 0; a < 3; a++)
+                d[a] = scene.fwd[a] + u * scene.right[a] + v * scene.up[a];
+            bg_f3_normalize(d);
+            render_hit hh;
+            int hit = rtc ? render_embree_intersect(rtc, scene.eye, d, &hh)
+                          : render_mesh_intersect(&mesh, scene.eye, d, INFINITY, &hh);
+            if (hit)
+                for (int a = 0; a < 3; a++)
+                    close_scene.eye[a] += scene.eye[a] + hh.t * d[a];
+        }
+        fill_job(o, &close_scene, &job2, o->width, o->height, o->ss);
+        job2.nmethods = 2;
+        job2.methods[0] = o->methods[4], job2.methods[1] = o->methods[5];
+        job2.albedo_mask = 0;
+        if (render_run(&job2)) {
             rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
             goto done;
         }
-        r->methods[m] = job.methods[m];
-        r->stats[m] = st[m];
     }
-    r->nmethods = job.nmethods;
+    r->render_seconds = now_seconds() - tr;
+    for (int m = 0; m < o->nmethods && m < (fig4 ? 6 : job.nmethods); m++) {
+        const render_job *J = fig4 && m >= 4 ? &job2 : &job;
+        if (render_stats_compute(J, fig4 && m >= 4 ? m - 4 : m, &st[m])) {
+            rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+            goto done;
+        }
+        r->methods[m] = o->methods[m];
+        r->stats[m] = st[m];
+        r->nmethods = m + 1;
+        if (fig4)
+            r->labels[m] = fig4_caption[m];
+    }
+    make_stamp(o, r, stamp, sizeof stamp);
     bg_image img;
-    if (o->compare) {
-        if ((rc = compose_panel(o, &job, st, &canvas, e)) != BG_OK)
+    if (fig4) {
+        if ((rc = compose_fig4(&job, &job2, st, stamp, &canvas, e)) != BG_OK)
+            goto done;
+        img.width = canvas.w, img.height = canvas.h, img.pixels = canvas.rgb;
+    } else if (o->compare) {
+        int texref = 0;
+        for (int m = 0; m < job.nmethods; m++)
+            texref |= render_method_textured(job.methods[m]);
+        if ((rc = compose_panel(o, &job, st, stamp, texref ? "surfgrad-heightmap" : "surfgrad",
+                                &canvas, e)) != BG_OK)
             goto done;
         img.width = canvas.w, img.height = canvas.h, img.pixels = canvas.rgb;
     } else {
         img.width = job.width, img.height = job.height_px, img.pixels = job.rgb[0];
     }
     img.channels = 3;
-    char err[512];
-    if ((rc = bg_image_write(o->output, &img, type, srgb, err, sizeof err)) != BG_OK) {
-        /* Any write failure is a failed run (exit 1), whatever the shim says. */
-        rc = bgt_fail(e, rc == BG_ERR_OUT_OF_MEMORY ? rc : BG_ERR_IO, "%s", err);
+    if ((rc = write_image(o->output, &img, type, srgb, e)) != BG_OK)
         goto done;
-    }
     r->out_width = img.width, r->out_height = img.height;
     if (o->sweep)
         rc = density_sweep(o, &scene, r, e);
 done:
     render_canvas_free(&canvas);
     render_job_free(&job);
+    render_job_free(&job2);
+    render_embree_free(rtc);
+    render_textures_free(&tex);
     render_mesh_free(&mesh);
     return rc;
 }

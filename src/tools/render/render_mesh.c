@@ -7,6 +7,7 @@
  * and are interpolated and renormalized per pixel, as the paper does for
  * `surf_norm` (section 4, Figure 1b). A median-split BVH serves the rays. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "render/render.h"
@@ -264,32 +265,85 @@ bg_status render_mesh_build(render_shape shape, int grid, render_mesh *m)
         free(b.nrm);
         return BG_ERR_OUT_OF_MEMORY;
     }
-    size_t n = b.n;
-    float *cen = malloc(n * 3 * sizeof *cen);
-    int *idx = malloc(n * sizeof *idx);
-    m->nodes = malloc(2 * n * sizeof *m->nodes);
-    m->pos = malloc(n * 9 * sizeof *m->pos);
-    m->nrm = malloc(n * 9 * sizeof *m->nrm);
-    m->face = malloc(n * 3 * sizeof *m->face);
-    if (!cen || !idx || !m->nodes || !m->pos || !m->nrm || !m->face) {
-        free(cen);
-        free(idx);
-        free(b.pos);
-        free(b.nrm);
+    bg_status rc = render_mesh_adopt(m, b.n, b.pos, b.nrm, NULL, NULL);
+    return rc != BG_OK ? rc : render_mesh_bvh(m);
+}
+
+static void reorder(float **arr, size_t per, const int *idx, size_t n, float *tmp)
+{
+    if (!*arr)
+        return;
+    for (size_t t = 0; t < n; t++)
+        memcpy(tmp + t * per, *arr + (size_t)idx[t] * per, per * sizeof(float));
+    *arr = tmp; /* the caller frees the old array */
+}
+
+static void face_normals(render_mesh *m);
+
+bg_status render_mesh_adopt(render_mesh *m, size_t n, float *pos, float *nrm, float *uv,
+                            float *tan)
+{
+    memset(m, 0, sizeof *m);
+    m->pos = pos, m->nrm = nrm, m->uv = uv, m->tan = tan, m->ntri = n;
+    m->face = malloc((n ? n : 1) * 3 * sizeof *m->face);
+    if (!m->face) {
         render_mesh_free(m);
         return BG_ERR_OUT_OF_MEMORY;
     }
-    for (size_t t = 0; t < n; t++) {
-        idx[t] = (int)t;
-        for (int a = 0; a < 3; a++)
-            cen[t * 3 + a] = (b.pos[t * 9 + a] + b.pos[t * 9 + 3 + a] + b.pos[t * 9 + 6 + a]) / 3;
+    face_normals(m);
+    return BG_OK;
+}
+
+bg_status render_mesh_bvh(render_mesh *m)
+{
+    size_t n = m->ntri;
+    float *pos = m->pos, *uv = m->uv, *tan = m->tan;
+    if (n > (size_t)(INT32_MAX / 2)) {
+        render_mesh_free(m);
+        return BG_ERR_OUT_OF_MEMORY;
     }
-    bvh_build bb = {m->nodes, 1, idx, cen, b.pos};
-    bvh_node(&bb, 0, 0, (int)n);
-    m->nnodes = bb.nnodes;
-    for (size_t t = 0; t < n; t++) {
-        memcpy(m->pos + t * 9, b.pos + (size_t)idx[t] * 9, 9 * sizeof(float));
-        memcpy(m->nrm + t * 9, b.nrm + (size_t)idx[t] * 9, 9 * sizeof(float));
+    {
+        float *cen = malloc(n * 3 * sizeof *cen);
+        int *idx = malloc(n * sizeof *idx);
+        m->nodes = malloc(2 * n * sizeof *m->nodes);
+        /* Scratch for the reordering, 12 floats per triangle (the widest array). */
+        float *tmp[4] = {malloc(n * 9 * sizeof(float)), malloc(n * 9 * sizeof(float)),
+                         uv ? malloc(n * 6 * sizeof(float)) : NULL,
+                         tan ? malloc(n * 12 * sizeof(float)) : NULL};
+        if (!cen || !idx || !m->nodes || !tmp[0] || !tmp[1] || (uv && !tmp[2]) || (tan && !tmp[3])) {
+            free(cen);
+            free(idx);
+            for (int i = 0; i < 4; i++)
+                free(tmp[i]);
+            render_mesh_free(m);
+            return BG_ERR_OUT_OF_MEMORY;
+        }
+        for (size_t t = 0; t < n; t++) {
+            idx[t] = (int)t;
+            for (int a = 0; a < 3; a++)
+                cen[t * 3 + a] = (pos[t * 9 + a] + pos[t * 9 + 3 + a] + pos[t * 9 + 6 + a]) / 3;
+        }
+        bvh_build bb = {m->nodes, 1, idx, cen, pos};
+        bvh_node(&bb, 0, 0, (int)n);
+        m->nnodes = bb.nnodes;
+        float **arrs[4] = {&m->pos, &m->nrm, &m->uv, &m->tan};
+        static const size_t per[4] = {9, 9, 6, 12};
+        for (int i = 0; i < 4; i++) {
+            float *old = *arrs[i];
+            reorder(arrs[i], per[i], idx, n, tmp[i]);
+            if (old && old != *arrs[i])
+                free(old);
+        }
+        free(cen);
+        free(idx);
+    }
+    face_normals(m);
+    return 0;
+}
+
+static void face_normals(render_mesh *m)
+{
+    for (size_t t = 0; t < m->ntri; t++) {
         const float *P = m->pos + t * 9;
         float e1[3] = {P[3] - P[0], P[4] - P[1], P[5] - P[2]};
         float e2[3] = {P[6] - P[0], P[7] - P[1], P[8] - P[2]};
@@ -297,18 +351,14 @@ bg_status render_mesh_build(render_shape shape, int grid, render_mesh *m)
                       e1[0] * e2[1] - e1[1] * e2[0]};
         float l = sqrtf(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         for (int a = 0; a < 3; a++)
-            m->face[t * 3 + a] = c[a] / l;
+            m->face[t * 3 + a] = l > 0 ? c[a] / l : 0.0f;
     }
-    m->ntri = n;
-    free(cen);
-    free(idx);
-    free(b.pos);
-    free(b.nrm);
-    return 0;
 }
 
 void render_mesh_free(render_mesh *m)
 {
+    free(m->uv);
+    free(m->tan);
     free(m->pos);
     free(m->nrm);
     free(m->face);

@@ -83,7 +83,10 @@ bg_status st_sweep_inward(st_out *o, size_t n)
     if (rc == 0)
         rc = st_chart(o, "inward", "inward.csv", "Inward-pointing normals vs amplitude", "amplitude",
                    "fraction of samples with dot(perturbed n, n) <= 0", 1, 0,
-                   "plot data using 1:2 with linespoints lw 2, data using 1:4 with linespoints lw 2, data using 1:3 with linespoints lw 2");
+                   "set key left top\nset yrange [-0.03:*]\n"
+                   "plot data using 1:2 with linespoints lw 2 title 'additive, n - grad h', "
+                   "data using 1:4 with linespoints lw 2 title 'additive with Perlin sign, n + grad h', "
+                   "data using 1:3 with linespoints lw 3 dt 2 pt 7 title 'surface gradient (eq. 4): always 0'");
     sweep_inward_free(px, sx, q);
     return rc;
 }
@@ -141,7 +144,8 @@ bg_status st_sweep_step(st_out *o, size_t n)
     if (rc == 0)
         rc = st_chart(o, "central_step", "central_step.csv", "float32 central differences: error vs step",
                    "step h (noise units)", "gradient error", 1, 1,
-                   "plot data using 1:2 with linespoints lw 2, data using 1:3 with linespoints lw 2");
+                   "plot data using 1:2 with linespoints lw 2 title 'fBm gradient error, mean', "
+                   "data using 1:3 with linespoints lw 2 title 'fBm gradient error, p99'");
     free(x), free(rx);
     return rc;
 }
@@ -196,8 +200,10 @@ bg_status st_sweep_large(st_out *o)
                    "so float noise there sits on lattice planes.\n");
     if (rc == 0)
         rc = st_chart(o, "large_coords", "large_coords.csv", "Large coordinates: max error vs base",
-                   "base coordinate X", "max |error| (0 not drawn)", 1, 1,
-                   "plot data using 1:($2>0?$2:1/0) with linespoints lw 2 title 'float', data using 1:($4>0?$4:1/0) with linespoints lw 2 title 'double'");
+                   "base coordinate X", "max |error| (float: 0 not drawn)", 1, 1,
+                   "set key left center\nset yrange [1e-18:3]\n"
+                   "plot data using 1:($2>0?$2:1/0) with linespoints lw 2 title 'float', "
+                   "data using 1:($4>0?$4:1e-17) with linespoints lw 2 dt 2 title 'double (exact: drawn at 1e-17)'");
     return rc;
 }
 
@@ -263,6 +269,7 @@ bg_status st_sweep_creases(st_out *o, size_t n)
     if (rc == 0)
         rc = st_chart(o, "creases", "creases.csv", "Turbulence: analytic vs central near creases",
                    "distance to nearest octave zero crossing (upper bin edge)", "angle between normals (deg)", 1, 1,
-                   "plot data using 1:($3>0?$3:1/0) with linespoints lw 2, data using 1:($4>0?$4:1/0) with linespoints lw 2");
+                   "plot data using 1:($3>0?$3:1/0) with linespoints lw 2 title 'mean angle error', "
+                   "data using 1:($4>0?$4:1/0) with linespoints lw 2 title 'max angle error'");
     return rc;
 }

@@ -1,0 +1,513 @@
+/* SPDX-License-Identifier: MIT */
+/* `bumpgrad render --mesh FILE`: a user's mesh (any format assimp reads, via
+ * bg_mesh_load) with its texture coordinates, normals and textures, for the
+ * texture methods of Mikkelsen 2010 section 6 / Figure 4:
+ *  - the mesh is centred and scaled into the unit sphere (automatic framing:
+ *    the camera of the built-in scenes then sees all of it);
+ *  - vertex normals from the file, or area-weighted face normals when it has
+ *    none; per-vertex tangents from the UVs (the classic per-triangle dP/ds
+ *    accumulated at the vertices, Gram-Schmidt against the normal, handedness
+ *    from dP/dt), computed here: the mikkTSpace frames of src/tools/mesh are
+ *    not in the tools library yet;
+ *  - textures from --height-map/--normal-map/--albedo, else from an OBJ's
+ *    material library (the first map_bump/bump, norm and map_Kd found: the
+ *    loader flattens all meshes and keeps no per-triangle material, so one
+ *    texture set covers the whole mesh). Without a height map the height is
+ *    the gray level of the albedo, the seed's diffuse-to-height method
+ *    (bumpgrad heightmap: 0.33 R + 0.66 G + 0.11 B); without a normal map the
+ *    normal map is baked from that height (central differences, as
+ *    bumpgrad heightmap does).
+ * Texture coordinates are (s, t) = st_scale * (u, 1 - v): t runs down the
+ * image rows, as bg_height_texture addresses texels. */
+#define _POSIX_C_SOURCE 200809L
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "bumpgrad/image.h"
+#include "bumpgrad/mesh.h"
+#include "render/render.h"
+#include "vecmath.h"
+
+int render_method_textured(render_method m)
+{
+    return m == RENDER_LISTING1_HEIGHTMAP || m == RENDER_LISTING1_HEIGHTMAP_CENTRAL ||
+           m == RENDER_NORMALMAP || m == RENDER_SURFGRAD_HEIGHTMAP || m == RENDER_DETAIL;
+}
+
+void render_textures_free(render_textures *t)
+{
+    for (int i = 0; i < 7; i++)
+        free(t->owned[i]);
+    memset(t, 0, sizeof *t);
+}
+
+/* ---- the OBJ material library: the first texture of each kind ---- */
+static void mtl_find(const char *obj_path, char *height, char *nmap, char *albedo, size_t len)
+{
+    height[0] = nmap[0] = albedo[0] = '\0';
+    FILE *f = fopen(obj_path, "r");
+    if (!f)
+        return;
+    char line[1024], lib[1024] = "";
+    while (fgets(line, sizeof line, f))
+        if (strncmp(line, "mtllib", 6) == 0 && isspace((unsigned char)line[6])) {
+            char *s = line + 6;
+            while (isspace((unsigned char)*s))
+                s++;
+            size_t n = strcspn(s, "\r\n");
+            s[n] = '\0';
+            snprintf(lib, sizeof lib, "%s", s);
+            break;
+        }
+    fclose(f);
+    if (!lib[0])
+        return;
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", obj_path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[1] = '\0';
+    else
+        dir[0] = '\0';
+    char mtl[2100];
+    snprintf(mtl, sizeof mtl, "%s%s", dir, lib);
+    if (!(f = fopen(mtl, "r")))
+        return;
+    while (fgets(line, sizeof line, f)) {
+        char *s = line;
+        while (isspace((unsigned char)*s))
+            s++;
+        char *dst = NULL;
+        if ((strncmp(s, "map_bump", 8) == 0 || strncmp(s, "map_Bump", 8) == 0 ||
+             strncmp(s, "bump", 4) == 0) && !height[0])
+            dst = height;
+        else if ((strncmp(s, "norm", 4) == 0 || strncmp(s, "map_Kn", 6) == 0) && !nmap[0])
+            dst = nmap;
+        else if (strncmp(s, "map_Kd", 6) == 0 && !albedo[0])
+            dst = albedo;
+        if (!dst)
+            continue;
+        /* The file name is the last word (options such as -bm 0.5 come first). */
+        size_t n = strcspn(s, "\r\n");
+        s[n] = '\0';
+        while (n > 0 && isspace((unsigned char)s[n - 1]))
+            s[--n] = '\0';
+        char *name = strrchr(s, ' '), *tab = strrchr(s, '\t');
+        if (tab && (!name || tab > name))
+            name = tab;
+        if (!name)
+            continue;
+        name++;
+        for (char *c = name; *c; c++)
+            if (*c == '\\')
+                *c = '/'; /* spider.mtl: "map_Kd .\wal67ar_small.jpg" */
+        if (strncmp(name, "./", 2) == 0)
+            name += 2;
+        snprintf(dst, len, "%s%s", name[0] == '/' ? "" : dir, name);
+    }
+    fclose(f);
+}
+
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* Read `path` as an image; any failure is the caller's input at fault (exit 2). */
+static bg_status read_texture(const char *what, const char *path, bg_image *img, bgt_err *e)
+{
+    char err[512];
+    bg_status s = bg_image_read(path, img, err, sizeof err);
+    if (s != BG_OK)
+        return bgt_fail(e, s == BG_ERR_OUT_OF_MEMORY ? s : BG_ERR_FORMAT, "%s \"%s\": %s", what,
+                        path, err);
+    for (size_t i = 0; i < (size_t)img->width * img->height * img->channels; i++)
+        if (!isfinite(img->pixels[i])) {
+            bg_image_free(img);
+            return bgt_fail(e, BG_ERR_FORMAT, "%s \"%s\": holds NaN or Inf texels", what, path);
+        }
+    return BG_OK;
+}
+
+/* The seed's gray level (bumpgrad heightmap --gray seed): 0.33 R + 0.66 G + 0.11 B
+ * of the stored (not linearized) values; one- and two-channel images: channel 0. */
+static float gray(const float *px, int ch)
+{
+    return ch >= 3 ? 0.33f * px[0] + 0.66f * px[1] + 0.11f * px[2] : px[0];
+}
+
+static int need_texture(const render_opts *o, render_method which)
+{
+    for (int i = 0; i < o->nmethods; i++)
+        if (o->methods[i] == which)
+            return 1;
+    return 0;
+}
+
+static int any_textured(const render_opts *o)
+{
+    if (o->preset == PRESET_FIG4)
+        return 1;
+    for (int i = 0; i < o->nmethods; i++)
+        if (render_method_textured(o->methods[i]))
+            return 1;
+    return 0;
+}
+
+/* dP/ds and dP/dt of triangle P with corner coordinates st (eq. 3's sigma_s,
+ * sigma_t on the UV chart); 0 for a degenerate UV triangle. */
+static int tri_chart(const float *P, const float *st, float ds[3], float dt[3])
+{
+    float e1[3], e2[3];
+    for (int a = 0; a < 3; a++)
+        e1[a] = P[3 + a] - P[a], e2[a] = P[6 + a] - P[a];
+    float s1 = st[2] - st[0], t1 = st[3] - st[1], s2 = st[4] - st[0], t2 = st[5] - st[1];
+    float det = s1 * t2 - s2 * t1;
+    if (!(fabsf(det) > 0) || !isfinite(det))
+        return 0;
+    float r = 1.0f / det;
+    for (int a = 0; a < 3; a++) {
+        ds[a] = (t2 * e1[a] - t1 * e2[a]) * r;
+        dt[a] = (s1 * e2[a] - s2 * e1[a]) * r;
+    }
+    return 1;
+}
+
+void render_tex_chart(const render_mesh *m, const render_textures *tx, int prim, float ds[3],
+                      float dt[3])
+{
+    float st[6];
+    for (int i = 0; i < 6; i++)
+        st[i] = m->uv[(size_t)prim * 6 + i] * tx->st_scale;
+    if (!tri_chart(m->pos + (size_t)prim * 9, st, ds, dt))
+        for (int a = 0; a < 3; a++)
+            ds[a] = dt[a] = 0.0f;
+}
+
+void render_tex_st(const render_mesh *m, const render_textures *tx, int prim, const float p[3],
+                   float st[2])
+{
+    /* Barycentrics of p (on or off the triangle, in its plane) by least squares:
+     * the affine extension a GPU's helper lanes interpolate. */
+    const float *P = m->pos + (size_t)prim * 9, *UV = m->uv + (size_t)prim * 6;
+    double e1[3], e2[3], w[3];
+    for (int a = 0; a < 3; a++)
+        e1[a] = P[3 + a] - P[a], e2[a] = P[6 + a] - P[a], w[a] = p[a] - P[a];
+    double a11 = 0, a12 = 0, a22 = 0, r1 = 0, r2 = 0;
+    for (int a = 0; a < 3; a++) {
+        a11 += e1[a] * e1[a], a12 += e1[a] * e2[a], a22 += e2[a] * e2[a];
+        r1 += e1[a] * w[a], r2 += e2[a] * w[a];
+    }
+    double det = a11 * a22 - a12 * a12;
+    double b1 = det != 0 ? (a22 * r1 - a12 * r2) / det : 0, b2 = det != 0 ? (a11 * r2 - a12 * r1) / det : 0;
+    for (int c = 0; c < 2; c++)
+        st[c] = (float)((UV[c] + b1 * (UV[2 + c] - UV[c]) + b2 * (UV[4 + c] - UV[c])) *
+                        tx->st_scale);
+}
+
+/* ---- loading ---- */
+bg_status render_load_mesh(const render_opts *o, render_mesh *m,
+                           render_textures *t, char *desc, size_t desclen, bgt_err *e)
+{
+    memset(m, 0, sizeof *m);
+    memset(t, 0, sizeof *t);
+    if (desclen)
+        desc[0] = '\0';
+    bg_mesh bm;
+    char err[512];
+    bg_status s = bg_mesh_load(o->mesh_path, &bm, err, sizeof err);
+    if (s != BG_OK)
+        /* A missing or unreadable mesh is the caller's input at fault: exit 2. */
+        return bgt_fail(e, s == BG_ERR_OUT_OF_MEMORY ? s : BG_ERR_FORMAT, "--mesh: %s", err);
+    const int textured = any_textured(o);
+    if (textured && !bm.u) {
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_FORMAT,
+                        "--mesh \"%s\": the mesh has no texture coordinates (UVs), which the "
+                        "texture methods (listing1-heightmap, normalmap, surfgrad-heightmap, detail, "
+                        "--preset fig4) need",
+                        o->mesh_path);
+    }
+    const size_t nv = bm.vertex_count;
+    /* Bounding box of the finite vertices; triangles with a non-finite corner are dropped. */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < nv; i++) {
+        double p[3] = {bm.px[i], bm.py[i], bm.pz[i]};
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+            continue;
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
+    }
+    double c[3], rad = 0;
+    for (int a = 0; a < 3; a++)
+        c[a] = 0.5 * (lo[a] + hi[a]);
+    for (size_t i = 0; i < nv; i++) {
+        double d[3] = {bm.px[i] - c[0], bm.py[i] - c[1], bm.pz[i] - c[2]};
+        double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (isfinite(r) && r > rad)
+            rad = r;
+    }
+    if (!(rad > 0)) {
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
+                        o->mesh_path);
+    }
+    /* Vertex attributes: normalized positions, unit normals, tangents. */
+    float *vp = malloc(nv * 3 * sizeof(float)), *vn = calloc(nv * 3, sizeof(float));
+    float *vt = bm.u ? calloc(nv * 3, sizeof(float)) : NULL, *vb = bm.u ? calloc(nv * 3, sizeof(float)) : NULL;
+    if (!vp || !vn || (bm.u && (!vt || !vb))) {
+        free(vp), free(vn), free(vt), free(vb);
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    for (size_t i = 0; i < nv; i++) {
+        vp[i * 3] = (float)((bm.px[i] - c[0]) / rad);
+        vp[i * 3 + 1] = (float)((bm.py[i] - c[1]) / rad);
+        vp[i * 3 + 2] = (float)((bm.pz[i] - c[2]) / rad);
+    }
+    size_t keep = 0;
+    for (size_t f = 0; f < bm.triangle_count; f++) {
+        const uint32_t *I = bm.indices + f * 3;
+        int ok = 1;
+        for (int k = 0; k < 3; k++)
+            ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
+                  isfinite(vp[I[k] * 3 + 2]);
+        if (!ok)
+            continue;
+        keep++;
+        const float *A = vp + I[0] * 3, *B = vp + I[1] * 3, *C = vp + I[2] * 3;
+        float e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+        float fn[3];
+        bg_f3_cross(e1, e2, fn); /* length = twice the area: area weighting */
+        if (!bm.nx)
+            for (int k = 0; k < 3; k++)
+                for (int a = 0; a < 3; a++)
+                    vn[I[k] * 3 + a] += fn[a];
+        if (bm.u) {
+            float P[9], st[6], ds[3], dt[3];
+            for (int k = 0; k < 3; k++) {
+                memcpy(P + k * 3, vp + I[k] * 3, 3 * sizeof(float));
+                st[k * 2] = bm.u[I[k]], st[k * 2 + 1] = 1.0f - bm.v[I[k]];
+            }
+            if (tri_chart(P, st, ds, dt)) {
+                float area = sqrtf(bg_f3_dot(fn, fn));
+                bg_f3_normalize(ds);
+                bg_f3_normalize(dt);
+                for (int k = 0; k < 3; k++)
+                    for (int a = 0; a < 3; a++) {
+                        vt[I[k] * 3 + a] += area * ds[a];
+                        vb[I[k] * 3 + a] += area * dt[a];
+                    }
+            }
+        }
+    }
+    if (bm.nx)
+        for (size_t i = 0; i < nv; i++)
+            vn[i * 3] = bm.nx[i], vn[i * 3 + 1] = bm.ny[i], vn[i * 3 + 2] = bm.nz[i];
+    for (size_t i = 0; i < nv; i++) {
+        float *n = vn + i * 3;
+        if (!isfinite(n[0]) || !isfinite(n[1]) || !isfinite(n[2]) || !bg_f3_normalize(n))
+            n[0] = n[1] = n[2] = 0.0f; /* the face normal is used there (render_core trace) */
+    }
+    if (keep == 0) {
+        free(vp), free(vn), free(vt), free(vb);
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no triangle with finite corners",
+                        o->mesh_path);
+    }
+    float *pos = malloc(keep * 9 * sizeof(float)), *nrm = malloc(keep * 9 * sizeof(float));
+    float *uv = bm.u ? malloc(keep * 6 * sizeof(float)) : NULL;
+    float *tan = bm.u ? malloc(keep * 12 * sizeof(float)) : NULL;
+    if (!pos || !nrm || (bm.u && (!uv || !tan))) {
+        free(pos), free(nrm), free(uv), free(tan);
+        free(vp), free(vn), free(vt), free(vb);
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    size_t w = 0;
+    double len_s = 0, len_t = 0, wsum = 0; /* area-weighted |dP/ds|, |dP/dt| (normal-map bake) */
+    for (size_t f = 0; f < bm.triangle_count; f++) {
+        const uint32_t *I = bm.indices + f * 3;
+        int ok = 1;
+        for (int k = 0; k < 3; k++)
+            ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
+                  isfinite(vp[I[k] * 3 + 2]);
+        if (!ok)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            memcpy(pos + w * 9 + k * 3, vp + I[k] * 3, 3 * sizeof(float));
+            memcpy(nrm + w * 9 + k * 3, vn + I[k] * 3, 3 * sizeof(float));
+            if (bm.u) {
+                uv[w * 6 + k * 2] = bm.u[I[k]], uv[w * 6 + k * 2 + 1] = 1.0f - bm.v[I[k]];
+                const float *n = vn + I[k] * 3;
+                float T[3], B[3];
+                memcpy(T, vt + I[k] * 3, sizeof T);
+                memcpy(B, vb + I[k] * 3, sizeof B);
+                float d = bg_f3_dot(T, n);
+                for (int a = 0; a < 3; a++)
+                    T[a] -= d * n[a];
+                if (!bg_f3_normalize(T))
+                    T[0] = T[1] = T[2] = 0.0f;
+                float nxt[3];
+                bg_f3_cross(n, T, nxt);
+                float *o4 = tan + w * 12 + k * 4;
+                memcpy(o4, T, sizeof T);
+                o4[3] = bg_f3_dot(nxt, B) < 0 ? -1.0f : 1.0f;
+            }
+        }
+        if (bm.u) {
+            float ds[3], dt[3];
+            const float *P = pos + w * 9;
+            float e1[3] = {P[3] - P[0], P[4] - P[1], P[5] - P[2]}, e2[3] = {P[6] - P[0], P[7] - P[1], P[8] - P[2]}, fn[3];
+            bg_f3_cross(e1, e2, fn);
+            double area = sqrt((double)bg_f3_dot(fn, fn));
+            if (tri_chart(P, uv + w * 6, ds, dt) && isfinite(area)) {
+                len_s += area * sqrt((double)bg_f3_dot(ds, ds));
+                len_t += area * sqrt((double)bg_f3_dot(dt, dt));
+                wsum += area;
+            }
+        }
+        w++;
+    }
+    free(vp), free(vn), free(vt), free(vb);
+    const int has_uv = bm.u != NULL;
+    bg_mesh_free(&bm);
+    if ((s = render_mesh_adopt(m, keep, pos, nrm, uv, tan)) != BG_OK)
+        return bgt_fail(e, s, "out of memory");
+
+    /* ---- textures ---- */
+    t->amplitude = o->tex_amplitude;
+    t->st_scale = o->st_scale > 0 ? o->st_scale : 1.0f;
+    if (!has_uv)
+        return BG_OK;
+    char mh[1024], mn[1024], ma[1024];
+    mtl_find(o->mesh_path, mh, mn, ma, sizeof mh);
+    const char *hp = o->height_map ? o->height_map : mh[0] ? mh : NULL;
+    const char *np = o->normal_map ? o->normal_map : mn[0] ? mn : NULL;
+    const char *ap = o->albedo_map ? o->albedo_map : ma[0] ? ma : NULL;
+    bg_image img;
+    size_t dl = 0;
+    if (ap && !o->no_albedo) {
+        if ((s = read_texture("--albedo", ap, &img, e)) != BG_OK)
+            goto fail;
+        size_t np_ = (size_t)img.width * img.height;
+        for (int ch = 0; ch < 3; ch++) {
+            float *tx = malloc(np_ * sizeof(float));
+            if (!tx) {
+                bg_image_free(&img);
+                s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                goto fail;
+            }
+            for (size_t i = 0; i < np_; i++)
+                tx[i] = srgb_to_linear(img.pixels[i * img.channels + (ch < img.channels ? ch : 0)]);
+            t->owned[ch] = tx;
+            t->albedo[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
+        }
+        bg_image_free(&img);
+        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " albedo=%s", ap);
+    }
+    const char *hsrc = hp ? hp : ap;
+    if (hsrc) {
+        if ((s = read_texture(hp ? "--height-map" : "--albedo", hsrc, &img, e)) != BG_OK)
+            goto fail;
+        size_t np_ = (size_t)img.width * img.height;
+        float *tx = malloc(np_ * sizeof(float));
+        if (!tx) {
+            bg_image_free(&img);
+            s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+            goto fail;
+        }
+        for (size_t i = 0; i < np_; i++)
+            tx[i] = gray(img.pixels + i * img.channels, img.channels);
+        t->owned[3] = tx;
+        t->height = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
+        bg_image_free(&img);
+        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " height=%s%s", hsrc,
+                               hp ? "" : "(gray-of-albedo)");
+    }
+    int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
+    if (want_nmap && np) {
+        if ((s = read_texture("--normal-map", np, &img, e)) != BG_OK)
+            goto fail;
+        if (img.channels < 3) {
+            bg_image_free(&img);
+            s = bgt_fail(e, BG_ERR_FORMAT, "--normal-map \"%s\": needs 3 channels, has %d", np,
+                         img.channels);
+            goto fail;
+        }
+        size_t np_ = (size_t)img.width * img.height;
+        for (int ch = 0; ch < 3; ch++) {
+            float *tx = malloc(np_ * sizeof(float));
+            if (!tx) {
+                bg_image_free(&img);
+                s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                goto fail;
+            }
+            /* Stored 0.5 m + 0.5 with +y up the image (OpenGL); our t runs down. */
+            for (size_t i = 0; i < np_; i++) {
+                float v = 2.0f * img.pixels[i * img.channels + ch] - 1.0f;
+                tx[i] = ch == 1 ? -v : v;
+            }
+            t->owned[4 + ch] = tx;
+            t->nmap[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
+        }
+        bg_image_free(&img);
+        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " normalmap=%s", np);
+    } else if (want_nmap && t->height.texels) {
+        /* Bake the tangent-space normal map of the height texture (the seed's
+         * diffuse-to-normal step, bumpgrad heightmap): slopes per unit length
+         * along unit tangents, using the mesh's average |dP/ds|, |dP/dt| (a
+         * normal map stores one scale for the whole surface; that is the
+         * approximation normal mapping makes, visible where the UV chart
+         * stretches). */
+        const int W = t->height.width, H = t->height.height;
+        const float *h = t->height.texels;
+        double ls = wsum > 0 ? len_s / wsum : 1.0, lt = wsum > 0 ? len_t / wsum : 1.0;
+        float ks = (float)(t->amplitude * W * t->st_scale / (ls > 0 ? ls : 1)),
+              kt = (float)(t->amplitude * H * t->st_scale / (lt > 0 ? lt : 1));
+        /* d/ds of the texture in st_scale-scaled coordinates: beta_s per texel * W;
+         * |dP/ds| of the scaled chart is ls / st_scale. */
+        for (int ch = 0; ch < 3; ch++) {
+            t->owned[4 + ch] = malloc((size_t)W * H * sizeof(float));
+            if (!t->owned[4 + ch]) {
+                s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                goto fail;
+            }
+            t->nmap[ch] = (bg_height_texture){W, H, t->owned[4 + ch], BG_WRAP_REPEAT};
+        }
+        for (int j = 0; j < H; j++)
+            for (int i = 0; i < W; i++) {
+                float a = 0.5f * (h[(size_t)j * W + (i + 1) % W] - h[(size_t)j * W + (i + W - 1) % W]);
+                float b = 0.5f * (h[(size_t)((j + 1) % H) * W + i] - h[(size_t)((j + H - 1) % H) * W + i]);
+                float n[3] = {-ks * a, -kt * b, 1.0f};
+                bg_f3_normalize(n);
+                for (int ch = 0; ch < 3; ch++)
+                    t->owned[4 + ch][(size_t)j * W + i] = n[ch];
+            }
+        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0,
+                               " normalmap=baked-from-height");
+    }
+    if (textured && !t->height.texels &&
+        (need_texture(o, RENDER_LISTING1_HEIGHTMAP) || need_texture(o, RENDER_LISTING1_HEIGHTMAP_CENTRAL) ||
+         need_texture(o, RENDER_SURFGRAD_HEIGHTMAP) || need_texture(o, RENDER_DETAIL) ||
+         o->preset == PRESET_FIG4)) {
+        s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                     "--mesh \"%s\": no height texture: give --height-map or --albedo (its "
+                     "material library names none)",
+                     o->mesh_path);
+        goto fail;
+    }
+    if (need_texture(o, RENDER_NORMALMAP) && !t->nmap[0].texels) {
+        s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                     "--mesh \"%s\": normalmap needs --normal-map, --height-map or --albedo",
+                     o->mesh_path);
+        goto fail;
+    }
+    return BG_OK;
+fail:
+    render_textures_free(t);
+    render_mesh_free(m);
+    return s;
+}
