@@ -85,6 +85,7 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
     fputs("x,y,z,value,dx,dy,dz\n", out.fp);
 
     bgt_progress_begin(o->progress, "eval", in.size);
+    size_t total_rows = 0;
     for (;;) {
         size_t rows;
         rc = dbl ? bgt_csv_read_double(&in, 3, job.dc, EVAL_BLOCK, &rows)
@@ -109,6 +110,9 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
                           strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
             break;
         }
+        total_rows += rows;
+        if (o->rows_done)
+            *o->rows_done = total_rows;
         bgt_progress_update(o->progress, in.consumed);
     }
     bgt_progress_end(o->progress);

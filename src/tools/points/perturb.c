@@ -69,6 +69,7 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
     fputs("x,y,z,nx,ny,nz,height,px,py,pz,inward\n", out.fp);
 
     bgt_progress_begin(o->progress, "perturb", in.size);
+    size_t total_rows = 0;
     for (;;) {
         size_t rows;
         rc = bgt_csv_read_float(&in, 6, job.c, PERTURB_BLOCK, &rows);
@@ -87,6 +88,9 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
                           strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
             break;
         }
+        total_rows += rows;
+        if (o->rows_done)
+            *o->rows_done = total_rows;
         bgt_progress_update(o->progress, in.consumed);
     }
     bgt_progress_end(o->progress);

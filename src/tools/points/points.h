@@ -17,7 +17,8 @@ typedef struct bgt_eval_opts {
     double step;   /* central step, > 0 */
     int threads;   /* 0: all cores */
     int allow_nonfinite;
-    const bgt_progress *progress;
+    const bgt_progress *progress; /* counts input bytes (total: the file size, 0 for a pipe) */
+    size_t *rows_done;            /* if non-NULL: rows done so far, set before each update */
 } bgt_eval_opts;
 
 /* Columns x,y,z in; x,y,z,value,dx,dy,dz out (%.9g float, %.17g double: both
@@ -30,7 +31,8 @@ typedef struct bgt_perturb_opts {
     bg_perturb_method method;
     int threads;
     int allow_nonfinite;
-    const bgt_progress *progress;
+    const bgt_progress *progress; /* as for eval */
+    size_t *rows_done;
 } bgt_perturb_opts;
 
 /* Columns x,y,z,nx,ny,nz in; x,y,z,nx,ny,nz,height,px,py,pz,inward out. */
