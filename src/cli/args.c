@@ -294,7 +294,8 @@ static void wrap(FILE *fp, const char *text, int col, int indent)
             fputc(' ', fp);
             col++;
         }
-        fwrite(w, 1, (size_t)wl, fp);
+        for (int k = 0; k < wl; k++)
+            fputc(w[k] == '\x01' ? ' ' : w[k], fp);
         col += wl;
     }
     fputc('\n', fp);
@@ -317,7 +318,8 @@ static void help_opts(FILE *fp, const cli_opt *t, const void *defs, int top)
             strncat(text, " (required)", sizeof text - strlen(text) - 1);
         else if (default_text(t, field, def, sizeof def)) {
             size_t l = strlen(text);
-            snprintf(text + l, sizeof text - l, " (default %s)", def);
+            /* \x01: a space the wrapping keeps, so "(default X)" stays on one line */
+            snprintf(text + l, sizeof text - l, " (default\x01%s)", def);
         }
         int col = fprintf(fp, "  %s", left);
         if (col + 2 > HELP_COL) {

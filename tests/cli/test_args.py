@@ -1,0 +1,176 @@
+# SPDX-License-Identifier: MIT
+"""The one option parser (src/cli/args.c) and what main.c does around it:
+--opt=value, `--`, global options anywhere, the messages, the generated help,
+completions and man pages, and --progress on a pipe.
+
+Usage: test_args.py BUMPGRAD_EXE {syntax|help|generated|progress|tools}
+"""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+EXE = os.path.abspath(sys.argv[1])
+FAILURES = []
+PTS = b"x,y,z\n0.5,1.25,2\n3.5,-1,0.125\n"
+
+
+def check(cond, what):
+    if not cond:
+        FAILURES.append(what)
+        print("FAIL:", what)
+    return cond
+
+
+def run(args, stdin=None, env_extra=None):
+    env = dict(os.environ)
+    env.pop("BUMPGRAD_ISA", None)
+    env.update(env_extra or {})
+    p = subprocess.run([EXE] + args, input=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       env=env, timeout=120)
+    return p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
+
+
+def syntax():
+    ref = run(["eval", "--function", "fbm", "--octaves", "3", "-i", "-", "-o", "-"], PTS)
+    check(ref[0] == 0 and ref[1].count("\n") == 3, "eval reference run: %r" % (ref,))
+    for args in (["--function=fbm", "--octaves=3", "-i", "-", "-o", "-"],
+                 ["--function=fbm", "--octaves", "3", "--input=-", "--output=-"],
+                 ["--function", "fbm", "--octaves=3", "-i-", "-o-"],
+                 ["-q", "--function=fbm", "--isa=scalar", "--octaves=3", "-i", "-", "-o", "-"],
+                 ["--function=fbm", "-v", "--octaves=3", "-i", "-", "-o", "-", "--quiet"]):
+        rc, out, err = run(["eval"] + args, PTS)
+        check(rc == 0 and out == ref[1], "eval %s equals the --opt value run (%d %r)"
+              % (args, rc, err))
+    # --isa after the command is the global option: a bad level is refused by main.
+    rc, out, err = run(["eval", "-i", "-", "-o", "-", "--isa", "nosuchisa"], PTS)
+    check(rc == 2 and "unknown ISA level" in err, "--isa after the command: %d %r" % (rc, err))
+    rc, out, err = run(["eval", "-i", "-", "-o", "-", "--bogus=1"], PTS)
+    check(rc == 2 and 'unknown option "--bogus" (see bumpgrad eval --help)' in err,
+          "unknown --bogus=1: %d %r" % (rc, err))
+    rc, out, err = run(["perturb", "-i", "-", "-o"])
+    check(rc == 2 and "-o needs a value" in err, "missing value: %d %r" % (rc, err))
+    rc, out, err = run(["eval", "--allow-nonfinite=1", "-i", "-", "-o", "-"], PTS)
+    check(rc == 2 and "takes no value" in err, "flag with a value: %d %r" % (rc, err))
+    rc, out, err = run(["eval", "-i", "-", "-o", "-", "--", "--function"], PTS)
+    check(rc == 2 and 'unexpected argument "--function"' in err, "-- ends options: %d %r" % (rc, err))
+    rc, out, err = run(["eval", "--function=fbmx", "-i", "-", "-o", "-"], PTS)
+    check(rc == 2 and '--function: expected noise, fbm or turbulence, got "fbmx"' in err,
+          "bad choice: %d %r" % (rc, err))
+    rc, out, err = run(["eval", "-o", "-"], PTS)
+    check(rc == 2 and "--input is required" in err, "required: %d %r" % (rc, err))
+    # A command not yet on the table parser gets --name=value split by main.c.
+    rc, out, err = run(["render", "--bogus-option=1"])
+    check(rc == 2 and '"--bogus-option"' in err and "=1" not in err,
+          "render --x=1 split before dispatch: %d %r" % (rc, err))
+
+
+def help_():
+    rc, out, err = run(["accuracy", "--help"])
+    check(rc == 0 and out.startswith("Usage: bumpgrad accuracy "), "accuracy --help usage line")
+    amp = [ln for ln in out.splitlines() if ln.strip().startswith("--amplitude")]
+    frq = [ln for ln in out.splitlines() if ln.strip().startswith("--frequency")]
+    check(len(amp) == 1 and "(default 0.05)" in amp[0], "accuracy: one amplitude default 0.05: %r"
+          % amp)
+    check(len(frq) == 1 and "(default 4)" in frq[0], "accuracy: one frequency default 4: %r" % frq)
+    check("default 0.1)" not in out, "accuracy --help shows no second amplitude default")
+    rc, out, _ = run(["perturb", "--help"])
+    amp = [ln for ln in out.splitlines() if ln.strip().startswith("--amplitude")]
+    check(len(amp) == 1 and "(default 0.1)" in amp[0], "perturb amplitude default 0.1: %r" % amp)
+    for c in ["eval", "perturb", "accuracy", "stability"]:
+        rc, out, err = run([c, "--help"])
+        check(rc == 0 and out.startswith("Usage: bumpgrad %s" % c), "%s --help: Usage:" % c)
+        rc2, out2, _ = run(["help", c])
+        check(rc2 == 0 and out2 == out, "help %s equals %s --help" % (c, c))
+
+
+def generated():
+    rc, bash, err = run(["completion", "bash"])
+    check(rc == 0 and "complete -o filenames -F _bumpgrad bumpgrad" in bash, "bash completion")
+    rc, out, err = run(["--help"])
+    cmds = [ln.split()[0] for ln in out.split("Commands:\n")[1].split("\n\n")[0].splitlines()]
+    for c in cmds:
+        check((" %s" % c) in bash, "bash completion names %s" % c)
+    for o in ("--lacunarity", "--height-grid", "--allow-nonfinite", "--no-chart"):
+        check(o in bash, "bash completion has %s" % o)
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "bumpgrad")
+        with open(path, "w") as f:
+            f.write(bash)
+        p = subprocess.run(["bash", "-n", path], capture_output=True)
+        check(p.returncode == 0, "bash -n accepts the completion: %r" % p.stderr)
+        # Drive the function as bash would.
+        script = ("source %s; COMP_WORDS=(bumpgrad -q perturb --method ''); COMP_CWORD=4; "
+                  "_bumpgrad; echo \"${COMPREPLY[@]}\"" % path)
+        p = subprocess.run(["bash", "-c", script], capture_output=True, text=True)
+        check(p.stdout.split() == ["surfgrad", "additive", "additive-perlin"],
+              "bash completes --method values: %r" % p.stdout)
+    rc, zsh, err = run(["completion", "zsh"])
+    check(rc == 0 and zsh.startswith("#compdef bumpgrad") and "--octaves=" in zsh, "zsh completion")
+    if shutil.which("zsh"):
+        p = subprocess.run(["zsh", "-n"], input=zsh, capture_output=True, text=True)
+        check(p.returncode == 0, "zsh -n: %r" % p.stderr)
+    rc, out, err = run(["completion", "fish"])
+    check(rc == 2, "completion fish refused")
+    pages = [[]] + [[c] for c in ["eval", "perturb", "accuracy", "stability"]]
+    for page in pages:
+        rc, man, err = run(["man"] + page)
+        check(rc == 0 and man.startswith(".TH BUMPGRAD"), "man %s" % page)
+        if shutil.which("groff"):
+            p = subprocess.run(["groff", "-man", "-Tutf8", "-ww", "-z"], input=man,
+                               capture_output=True, text=True)
+            check(p.returncode == 0 and p.stderr == "", "groff -ww on man %s: %r" % (page, p.stderr))
+    rc, out, err = run(["man", "render"])
+    check(rc == 2 and "no generated page" in err, "man of an unconverted command refused")
+
+
+def progress():
+    # 100k rows: several blocks; --progress forces the lines onto a pipe.
+    rows = b"".join(b"%d.25,%d.5,0.75\n" % (i % 997, i % 13) for i in range(100000))
+    with tempfile.TemporaryDirectory() as d:
+        inp = os.path.join(d, "p.csv")
+        with open(inp, "wb") as f:
+            f.write(b"x,y,z\n" + rows)
+        outp = os.path.join(d, "o.csv")
+        rc, out, err = run(["eval", "--progress", "-i", inp, "-o", outp],
+                           env_extra={"BUMPGRAD_NO_PROGRESS": "1"})
+        check(rc == 0, "eval --progress: %d %r" % (rc, err))
+        lines = [ln for ln in err.splitlines() if ln.startswith("eval:")]
+        check(lines and "\r" not in err, "progress lines on a pipe, no carriage return: %r" % err)
+        check(any("rows/s" in ln and "100000 rows" in ln for ln in lines),
+              "final progress line counts rows with a unit: %r" % lines)
+        rc, out, err = run(["eval", "-i", inp, "-o", outp])
+        check(rc == 0 and err == "", "no progress on a pipe by default: %r" % err)
+        rc, out, err = run(["eval", "--progress", "-q", "-i", inp, "-o", outp])
+        check(rc == 0 and err == "", "--quiet wins over --progress: %r" % err)
+        rc, out, err = run(["-v", "eval", "-i", inp, "-o", outp])
+        check(rc == 0 and "rows/s" in err, "-v gives the final rate: %r" % err)
+
+
+def tools():
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "v.vdb")
+        rc, so, err = run(["volume", "--voxel-size=0.1", "--output=" + out])
+        check(rc == 0 and "9261 active voxels" in so, "volume default box -1..1 at 0.1: %d %r %r"
+              % (rc, so, err))
+        rc, so, err = run(["volume", "--voxel-size", "0.1", "--band-sphere", "5,5,5,0.1,0.01",
+                           "-o", out])
+        check(rc == 0 and "warning" in err and "no voxel" in err, "volume empty band warns: %r" % err)
+        rc, so, err = run(["-q", "volume", "--voxel-size", "0.1", "-o", out])
+        check(rc == 0 and so == "" and err == "", "volume -q prints nothing: %r %r" % (so, err))
+        rc, so, err = run(["volume", "-o", "-"])
+        check(rc == 2 and "stream" in err, "volume -o - refused: %r" % err)
+        rc, so, err = run(["heightmap", "-", os.path.join(d, "n.png")])
+        check(rc == 2 and "not supported" in err, "heightmap - refused: %r" % err)
+        rc, so, err = run(["volume", "--help"])
+        check("(default -1,-1,-1,1,1,1)" in so and "(default 0.02)" in so,
+              "volume --help says its default box and voxel size")
+
+
+{"syntax": syntax, "help": help_, "generated": generated, "progress": progress,
+ "tools": tools}[sys.argv[2]]()
+if FAILURES:
+    print("%d failure(s)" % len(FAILURES))
+    sys.exit(1)
+print("ok")
