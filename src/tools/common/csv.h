@@ -44,4 +44,11 @@ bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count);
 bg_status bgt_csv_read_float(bgt_csv *c, int count, float *const *cols, size_t max, size_t *rows);
 bg_status bgt_csv_read_double(bgt_csv *c, int count, double *const *cols, size_t max, size_t *rows);
 
+/* Nonzero (the default): fields that are plain decimals take the exact fast
+ * path (csv.c); 0: every field goes through strtof/strtod (for benchmarks). */
+extern int bgt_csv_fast_path;
+/* The fast path alone, for tests: BG_OK with the value (*dv for dbl, else *fv)
+ * if it handles s[0..n), BG_ERR_FORMAT if it leaves the field to strtod/strtof. */
+bg_status bgt_csv_parse_number(const char *s, size_t n, int dbl, double *dv, float *fv);
+
 #endif
