@@ -168,7 +168,47 @@ def tools():
               "volume --help says its default box and voxel size")
 
 
-{"syntax": syntax, "help": help_, "generated": generated, "progress": progress,
+def csv():
+    plain = b"x,y,z\n0.5,1.25,2\n3.5,-1,0.125\n"
+    rc, ref, err = run(["eval", "--function", "fbm", "-i", "-", "-o", "-"], plain)
+    check(rc == 0, "plain eval: %r" % err)
+    ref_rows = [ln.split(",") for ln in ref.splitlines()[1:]]
+    mapped = (b'"ID", "Z" ,Y,x,Extra,note\n'
+              b'p1,2,1.25,0.5,abc,"a,""b"""\n'
+              b'p2,0.125,-1,3.5,,\n')
+    for prec in ("float", "double"):
+        rc, refp, _ = run(["eval", "--precision", prec, "-i", "-", "-o", "-"], plain)
+        rc, out, err = run(["eval", "--precision", prec, "-i", "-", "-o", "-"], mapped)
+        lines = out.splitlines()
+        check(rc == 0 and lines[0] == '"ID",x,y,z,value,dx,dy,dz,Extra,note',
+              "mapped header (%s): %r %r" % (prec, lines[:1], err))
+        want = [r.split(",") for r in refp.splitlines()[1:]]
+        got = [ln.split(",") for ln in lines[1:]]
+        check(len(got) == 2 and got[0][1:8] == want[0] and got[1][1:8] == want[1],
+              "mapped columns give the values of the plain table (%s): %r" % (prec, got))
+        check(lines[1].startswith("p1,") and lines[1].endswith(',abc,"a,""b"""') and
+              lines[2].startswith("p2,") and lines[2].endswith(",,"),
+              "id first and extra columns passed through unchanged: %r" % lines[1:])
+    rc, out, err = run(["eval", "--function", "fbm", "-i", "-", "-o", "-"],
+                       b"X,Y,Z\n0.5,1.25,2\n3.5,-1,0.125\n")
+    check(rc == 0 and out == ref, "X,Y,Z equals x,y,z")
+    rc, out, err = run(["perturb", "-i", "-", "-o", "-"],
+                       b"nz,ny,nx,z,y,x,id\n1,0,0,0.1,0.2,0.3,a\n")
+    rc2, out2, _ = run(["perturb", "-i", "-", "-o", "-"], b"x,y,z,nx,ny,nz\n0.3,0.2,0.1,0,0,1\n")
+    check(rc == 0 and out.splitlines()[1] == "a," + out2.splitlines()[1],
+          "perturb with columns in any order and an id: %r %r" % (out, err))
+    for data, loc, part in ((b"x,y\n1,2\n", "<stdin>:1:4:", 'no column "z"'),
+                            (b"x,y,z,x\n1,2,3,4\n", "<stdin>:1:7:", "twice"),
+                            (b"a,x,y,z\nq,1,2\n", "<stdin>:2:6:", "expected 4 fields, got 3"),
+                            (b"a,x,y,z\nq,1,2,3,4\n", "<stdin>:2:9:", "expected 4 fields, got 5"),
+                            (b"a,x,y,z\nq,1,2x,3\n", "<stdin>:2:5:", '"2x"'),
+                            (b'"x",y,"q\n1,2,3\n', "<stdin>:1:", "header")):
+        rc, out, err = run(["eval", "-i", "-", "-o", "-"], data)
+        check(rc == 2 and loc in err and part in err, "bad mapped input %r: %d %r" % (data, rc, err))
+        check("\\x22" not in err, "a quote shows as a quote: %r" % err)
+
+
+{"syntax": syntax, "csv": csv, "help": help_, "generated": generated, "progress": progress,
  "tools": tools}[sys.argv[2]]()
 if FAILURES:
     print("%d failure(s)" % len(FAILURES))

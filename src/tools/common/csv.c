@@ -32,7 +32,10 @@ static const char *quote(const char *s, size_t n, char *out, size_t cap)
             break;
         }
         unsigned char ch = (unsigned char)s[i];
-        if (ch < 0x20 || ch == 0x7f || ch == '"' || ch == '\\')
+        if (ch == '"' || ch == '\\') {
+            out[o++] = '\\';
+            out[o++] = (char)ch;
+        } else if (ch < 0x20 || ch == 0x7f)
             o += (size_t)snprintf(out + o, cap - o, "\\x%02x", ch);
         else
             out[o++] = (char)ch;
@@ -195,6 +198,10 @@ bg_status bgt_csv_open(bgt_csv *c, bgt_err *err, const char *path, int allow_non
 
 void bgt_csv_close(bgt_csv *c)
 {
+    free(c->arena);
+    free(c->offs);
+    c->arena = NULL;
+    c->offs = NULL;
     if (c->fp && c->fp != stdin)
         fclose(c->fp);
     c->fp = NULL;
@@ -306,12 +313,119 @@ bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
     return 0;
 }
 
+static size_t field_end(const char *s, size_t n, size_t b);
+
+/* One header name: blanks and one pair of double quotes around it removed. */
+static void header_name(const char *s, size_t b, size_t e, size_t *nb, size_t *ne)
+{
+    while (b < e && is_blank_char(s[b]))
+        b++;
+    while (e > b && is_blank_char(s[e - 1]))
+        e--;
+    if (e - b >= 2 && s[b] == '"' && s[e - 1] == '"')
+        b++, e--;
+    *nb = b, *ne = e;
+}
+
+static int same_name(const char *s, size_t n, const char *name)
+{
+    if (strlen(name) != n)
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (tolower((unsigned char)s[i]) != tolower((unsigned char)name[i]))
+            return 0;
+    return 1;
+}
+
+bg_status bgt_csv_header_map(bgt_csv *c, const char *const *names, int count)
+{
+    char *s;
+    size_t n;
+    char want[128] = "", got[64];
+    for (int k = 0; k < count; k++) {
+        strncat(want, names[k], sizeof want - strlen(want) - 2);
+        if (k + 1 < count)
+            strcat(want, ",");
+    }
+    int r = next_line(c, &s, &n);
+    if (r < 0)
+        return (bg_status)-r;
+    if (r == 0) {
+        c->line = 1;
+        return row_error(c, 1, "empty input, expected the header \"%s\"", want);
+    }
+    size_t pos = 0;
+    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
+        pos = 3;
+    int have[BGT_CSV_MAX_COLS] = {0}, found = 0, identity = 1;
+    c->ncols = 0;
+    c->id_header[0] = c->extra_header[0] = '\0';
+    for (;;) {
+        size_t e = field_end(s, n, pos), nb, ne;
+        if (c->ncols == BGT_CSV_MAX_COLS)
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: more than %d columns", c->name,
+                            pos + 1, BGT_CSV_MAX_COLS);
+        header_name(s, pos, e, &nb, &ne);
+        int role = -1;
+        for (int k = 0; k < count; k++)
+            if (same_name(s + nb, ne - nb, names[k])) {
+                if (have[k]) {
+                    char msg[160];
+                    snprintf(msg, sizeof msg, "column \"%s\" appears twice in the header",
+                             names[k]);
+                    return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: %s", c->name, nb + 1, msg);
+                }
+                have[k] = 1, role = k, found++;
+            }
+        if (role < 0 && same_name(s + nb, ne - nb, "id") && !c->id_header[0])
+            role = -2;
+        /* The exact old header ("x,y,z") keeps the fast path and the old output. */
+        if (role != c->ncols || ne - nb != strlen(names[role]) ||
+            memcmp(s + nb, names[role], ne - nb) != 0)
+            identity = 0;
+        char *dst = role == -2 ? c->id_header : c->extra_header;
+        size_t cap = role == -2 ? sizeof c->id_header : sizeof c->extra_header;
+        if (role < 0) {
+            size_t l = strlen(dst);
+            if (l + (e - pos) + 2 > cap)
+                return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: header too long", c->name,
+                                pos + 1);
+            if (role == -1 && l)
+                dst[l++] = ',';
+            memcpy(dst + l, s + pos, e - pos);
+            dst[l + (e - pos)] = '\0';
+        }
+        c->role[c->ncols++] = (signed char)role;
+        if (e >= n)
+            break;
+        pos = e + 1;
+    }
+    if (found < count) {
+        if (found == 0) {
+            char msg[256];
+            snprintf(msg, sizeof msg, "expected the header \"%s\" (any order, any case, extra "
+                                      "columns allowed), got \"%s\"",
+                     want, quote(s, n, got, sizeof got));
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:1: %s", c->name, msg);
+        }
+        for (int k = 0; k < count; k++)
+            if (!have[k]) {
+                char msg[256];
+                snprintf(msg, sizeof msg, "the header has no column \"%s\" (needs %s), got \"%s\"",
+                         names[k], want, quote(s, n, got, sizeof got));
+                return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: %s", c->name, n + 1, msg);
+            }
+    }
+    c->mapped = !(identity && c->ncols == count);
+    return 0;
+}
+
 /* Split and parse one row; `dbl` picks strtod into dcols, else strtof into fcols. */
-static bg_status parse_row(bgt_csv *c, char *s, size_t n, int count, int dbl, float *const *fcols,
-                     double *const *dcols, size_t row)
+static bg_status parse_row(bgt_csv *c, char *s, size_t n, size_t pos0, int count, int dbl,
+                           float *const *fcols, double *const *dcols, size_t row)
 {
     char tmp[64];
-    size_t pos = 0;
+    size_t pos = pos0;
     for (int k = 0; k < count; k++) {
         size_t b = pos;
         size_t e = b;
@@ -421,10 +535,144 @@ static int fast_row(const char *s, size_t n, int count, int dbl, float *const *f
     return 1;
 }
 
+/* End of the field starting at s[b] (a ',' or n); a field starting with '"'
+ * runs to its closing quote ("" is a quote inside). */
+static size_t field_end(const char *s, size_t n, size_t b)
+{
+    size_t e = b;
+    while (e < n && is_blank_char(s[e]))
+        e++;
+    if (e < n && s[e] == '"') {
+        for (e++; e < n; e++)
+            if (s[e] == '"') {
+                if (e + 1 < n && s[e + 1] == '"')
+                    e++;
+                else {
+                    e++;
+                    break;
+                }
+            }
+    }
+    while (e < n && s[e] != ',')
+        e++;
+    return e;
+}
+
+static int arena_add(bgt_csv *c, const char *s, size_t n, size_t *start)
+{
+    if (c->arena_len + n + 1 > c->arena_cap) {
+        size_t cap = c->arena_cap ? c->arena_cap : 1 << 16;
+        while (cap < c->arena_len + n + 1)
+            cap *= 2;
+        char *a = realloc(c->arena, cap);
+        if (!a)
+            return 0;
+        c->arena = a;
+        c->arena_cap = cap;
+    }
+    *start = c->arena_len;
+    memcpy(c->arena + c->arena_len, s, n);
+    c->arena_len += n;
+    return 1;
+}
+
+/* A row of a mapped header: split into ncols fields, parse the wanted ones
+ * (same rules and messages as parse_row), keep the id and extra text. */
+static bg_status parse_mapped(bgt_csv *c, char *s, size_t n, int dbl, float *const *fcols,
+                              double *const *dcols, size_t row)
+{
+    size_t b = 0, *o = c->offs + 4 * row;
+    o[0] = o[1] = o[2] = o[3] = 0;
+    int extras = 0;
+    for (int k = 0; k < c->ncols; k++) {
+        if (k > 0 && b > n) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", c->ncols, k);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
+        }
+        size_t e = field_end(s, n, b);
+        if (k + 1 == c->ncols && e < n) {
+            int extra = 1;
+            for (size_t i = e + 1; i < n; i++)
+                extra += s[i] == ',';
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", c->ncols, c->ncols + extra);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, e + 2, msg);
+        }
+        if (k + 1 < c->ncols && e == n) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", c->ncols, k + 1);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
+        }
+        int r = c->role[k];
+        size_t vb = b, ve = e;
+        while (vb < ve && is_blank_char(s[vb]))
+            vb++;
+        while (ve > vb && is_blank_char(s[ve - 1]))
+            ve--;
+        double dv;
+        float fv;
+        if (r >= 0 && bgt_csv_fast_path && scan_decimal(s + vb, s + ve, &dv) == s + ve &&
+            (dbl || exact_float(dv, &fv))) {
+            if (dbl)
+                dcols[r][row] = dv;
+            else
+                fcols[r][row] = fv;
+        } else if (r >= 0) {
+            char saved = s[e];
+            s[e] = '\0';
+            bg_status st = parse_row(c, s, e, b, 1, dbl, fcols ? fcols + r : NULL,
+                                     dcols ? dcols + r : NULL, row);
+            s[e] = saved;
+            if (st)
+                return st;
+        } else {
+            size_t start;
+            if (r == -2) {
+                if (!arena_add(c, s + b, e - b, &start))
+                    return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                o[0] = start, o[1] = e - b;
+            } else {
+                if (!arena_add(c, ",", extras ? 1 : 0, &start) ||
+                    !arena_add(c, s + b, e - b, &start))
+                    return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                if (!extras)
+                    o[2] = start;
+                o[3] += e - b + (extras ? 1 : 0);
+                extras++;
+            }
+        }
+        b = e + 1;
+    }
+    return 0;
+}
+
+void bgt_csv_row_text(const bgt_csv *c, size_t row, const char **id, size_t *idlen,
+                      const char **extra, size_t *extralen)
+{
+    static const char empty[] = "";
+    if (!c->mapped || !c->arena) {
+        *id = *extra = empty;
+        *idlen = *extralen = 0;
+        return;
+    }
+    const size_t *o = c->offs + 4 * row;
+    *id = c->arena + o[0], *idlen = o[1];
+    *extra = c->arena + o[2], *extralen = o[3];
+}
+
 static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, double *const *dcols,
                      size_t max, size_t *rows)
 {
     size_t got = 0;
+    c->arena_len = 0;
+    if (c->mapped && c->offs_cap < max) {
+        size_t *o = realloc(c->offs, 4 * max * sizeof *o);
+        if (!o)
+            return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        c->offs = o;
+        c->offs_cap = max;
+    }
     while (got < max) {
         char *s;
         size_t n;
@@ -433,7 +681,7 @@ static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, 
             return (bg_status)-r;
         if (r == 0)
             break;
-        if (bgt_csv_fast_path && !c->blank &&
+        if (bgt_csv_fast_path && !c->blank && !c->mapped &&
             fast_row(s, n, count, dbl, fcols, dcols, got)) {
             got++;
             continue;
@@ -449,7 +697,8 @@ static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, 
             c->line = c->blank;
             return row_error(c, 1, "blank line inside the data%s", "");
         }
-        bg_status e = parse_row(c, s, n, count, dbl, fcols, dcols, got);
+        bg_status e = c->mapped ? parse_mapped(c, s, n, dbl, fcols, dcols, got)
+                                : parse_row(c, s, n, 0, count, dbl, fcols, dcols, got);
         if (e)
             return e;
         got++;

@@ -12,6 +12,38 @@
 #define EVAL_BLOCK 8192
 #define EVAL_CHUNK 1024
 
+/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
+ * after ours, as they were. */
+static void write_header(FILE *fp, const bgt_csv *in, const char *ours)
+{
+    if (in->id_header[0])
+        fprintf(fp, "%s,", in->id_header);
+    fputs(ours, fp);
+    if (in->extra_header[0])
+        fprintf(fp, ",%s", in->extra_header);
+    fputc('\n', fp);
+}
+
+static void row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
+{
+    const char *id;
+    size_t idlen;
+    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
+    if (in->id_header[0]) {
+        fwrite(id, 1, idlen, fp);
+        fputc(',', fp);
+    }
+}
+
+static void row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
+{
+    if (in->extra_header[0]) {
+        fputc(',', fp);
+        fwrite(extra, 1, elen, fp);
+    }
+    fputc('\n', fp);
+}
+
 static const char *const eval_header[] = {"x", "y", "z"};
 
 typedef struct eval_job {
@@ -56,7 +88,7 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
     bg_status rc;
     if ((rc = bgt_csv_open(&in, e, o->input, o->allow_nonfinite)))
         return rc;
-    if ((rc = bgt_csv_header(&in, eval_header, 3))) {
+    if ((rc = bgt_csv_header_map(&in, eval_header, 3))) {
         bgt_csv_close(&in);
         return rc;
     }
@@ -82,7 +114,7 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
     }
     static char obuf[1 << 16];
     setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    fputs("x,y,z,value,dx,dy,dz\n", out.fp);
+    write_header(out.fp, &in, "x,y,z,value,dx,dy,dz");
 
     bgt_progress_begin(o->progress, "eval", in.size);
     size_t total_rows = 0;
@@ -95,15 +127,25 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
         bgt_parallel_for(rows, EVAL_CHUNK, o->threads, eval_chunk, &job);
         if (dbl) {
             double **c = job.dc;
-            for (size_t r = 0; r < rows; r++)
-                fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", c[0][r], c[1][r],
+            for (size_t r = 0; r < rows; r++) {
+                const char *x;
+                size_t xl;
+                row_prefix(out.fp, &in, r, &x, &xl);
+                fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", c[0][r], c[1][r],
                         c[2][r], c[3][r], c[4][r], c[5][r], c[6][r]);
+                row_suffix(out.fp, &in, x, xl);
+            }
         } else {
             float **c = job.fc;
-            for (size_t r = 0; r < rows; r++)
-                fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", (double)c[0][r],
+            for (size_t r = 0; r < rows; r++) {
+                const char *x;
+                size_t xl;
+                row_prefix(out.fp, &in, r, &x, &xl);
+                fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", (double)c[0][r],
                         (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
                         (double)c[5][r], (double)c[6][r]);
+                row_suffix(out.fp, &in, x, xl);
+            }
         }
         if (ferror(out.fp)) {
             rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",

@@ -14,6 +14,38 @@
 #define PERTURB_BLOCK 8192
 #define PERTURB_CHUNK 1024
 
+/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
+ * after ours, as they were. */
+static void write_header(FILE *fp, const bgt_csv *in, const char *ours)
+{
+    if (in->id_header[0])
+        fprintf(fp, "%s,", in->id_header);
+    fputs(ours, fp);
+    if (in->extra_header[0])
+        fprintf(fp, ",%s", in->extra_header);
+    fputc('\n', fp);
+}
+
+static void row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
+{
+    const char *id;
+    size_t idlen;
+    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
+    if (in->id_header[0]) {
+        fwrite(id, 1, idlen, fp);
+        fputc(',', fp);
+    }
+}
+
+static void row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
+{
+    if (in->extra_header[0]) {
+        fputc(',', fp);
+        fwrite(extra, 1, elen, fp);
+    }
+    fputc('\n', fp);
+}
+
 static const char *const perturb_header[] = {"x", "y", "z", "nx", "ny", "nz"};
 
 typedef struct perturb_job {
@@ -45,7 +77,7 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
     bg_status rc;
     if ((rc = bgt_csv_open(&in, e, o->input, o->allow_nonfinite)))
         return rc;
-    if ((rc = bgt_csv_header(&in, perturb_header, 6))) {
+    if ((rc = bgt_csv_header_map(&in, perturb_header, 6))) {
         bgt_csv_close(&in);
         return rc;
     }
@@ -66,7 +98,7 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
     }
     static char obuf[1 << 16];
     setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    fputs("x,y,z,nx,ny,nz,height,px,py,pz,inward\n", out.fp);
+    write_header(out.fp, &in, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
 
     bgt_progress_begin(o->progress, "perturb", in.size);
     size_t total_rows = 0;
@@ -77,12 +109,17 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
             break;
         bgt_parallel_for(rows, PERTURB_CHUNK, o->threads, perturb_chunk, &job);
         float **c = job.c;
-        for (size_t r = 0; r < rows; r++)
-            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
+        for (size_t r = 0; r < rows; r++) {
+            const char *x;
+            size_t xl;
+            row_prefix(out.fp, &in, r, &x, &xl);
+            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d",
                     (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
                     (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
                     (double)c[8][r], (double)c[9][r],
                     is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]));
+            row_suffix(out.fp, &in, x, xl);
+        }
         if (ferror(out.fp)) {
             rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
                           strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
