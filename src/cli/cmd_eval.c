@@ -8,12 +8,13 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 #include "points/points.h"
 
 typedef struct eval_args {
     const char *input, *output;
     bg_fractal fractal;
-    int central, dbl, threads, allow_nonfinite;
+    int central, dbl, threads, allow_nonfinite, json;
     double step;
 } eval_args;
 
@@ -51,6 +52,9 @@ static const cli_opt eval_opts[] = {
      .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024},
     {.name = "allow-nonfinite", .kind = CLI_KIND_FLAG, .offset = A(allow_nonfinite),
      .help = "accept nan/inf coordinates (their results are NaN); without it they are an error"},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print one JSON object of statistics on standard output (rows, time, ISA, every "
+             "parameter); needs --output FILE"},
     CLI_OPT_END,
 };
 #undef A
@@ -97,17 +101,47 @@ int cmd_eval(int argc, char **argv)
         return cli_usage_error(cmd, "invalid fractal parameters");
     if (!a.dbl && !((float)a.step > 0))
         return cli_usage_error(cmd, "--step %g is zero in float precision", a.step);
+    if (a.json && strcmp(a.output, "-") == 0)
+        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
     if (a.threads == 0)
         a.threads = bgt_threads_default();
 
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    size_t rows_done = 0;
-    prog.rows = &rows_done;
+    bgt_points_stats stats = {0};
+    prog.rows = &stats.rows;
     bgt_eval_opts opts = {.input = a.input, .output = a.output, .fractal = a.fractal,
                           .central = a.central, .dbl = a.dbl, .step = a.step,
                           .threads = a.threads, .allow_nonfinite = a.allow_nonfinite,
-                          .progress = &sink, .rows_done = &rows_done};
+                          .progress = &sink, .stats = &stats};
     bgt_err err;
-    return cli_report(cmd, bgt_eval_run(&opts, &err), &err);
+    double t0 = cli_now();
+    bg_status st = bgt_eval_run(&opts, &err);
+    double dt = cli_now() - t0;
+    if (st != BG_OK)
+        return cli_report(cmd, st, &err);
+    cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats.rows, dt,
+             bg_isa_name(bg_isa_active()), a.threads);
+    if (a.json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, cmd, dt);
+        cli_json_int(&j, "rows", (long long)stats.rows);
+        cli_json_num(&j, "rows_per_second", dt > 0 ? (double)stats.rows / dt : 0.0);
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "input", a.input);
+        cli_json_str(&j, "output", a.output);
+        cli_json_str(&j, "function", cli_function_name(a.fractal.function));
+        cli_json_int(&j, "octaves", a.fractal.octaves);
+        cli_json_float(&j, "lacunarity", a.fractal.lacunarity);
+        cli_json_float(&j, "gain", a.fractal.gain);
+        cli_json_str(&j, "gradient", a.central ? "central" : "analytic");
+        cli_json_num(&j, "step", a.step);
+        cli_json_str(&j, "precision", a.dbl ? "double" : "float");
+        cli_json_int(&j, "threads", a.threads);
+        cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);
+        cli_json_close(&j);
+        cli_json_end(&j);
+    }
+    return CLI_OK;
 }

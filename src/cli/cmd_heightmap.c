@@ -9,11 +9,12 @@
 #include "args.h"
 #include "bake/bake.h"
 #include "cli.h"
+#include "json.h"
 
 #define CMD "heightmap"
 
 typedef struct heightmap_args {
-    int gray, wrap, y_down, to_derivative, bits;
+    int gray, wrap, y_down, to_derivative, bits, json;
     float strength;
 } heightmap_args;
 
@@ -59,6 +60,8 @@ static const cli_opt heightmap_opts[] = {
              "(bg_tangent_normal_to_derivs): |m.z| is used (an inward normal is mirrored), "
              "raised to max(|m.x|,|m.y|)/128 when smaller, so both ratios stay within [-128, "
              "128] along their own direction."},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print one JSON object on standard output: time, ISA and every parameter"},
     CLI_OPT_END,
 };
 #undef A
@@ -116,5 +119,29 @@ int cmd_heightmap(int argc, char **argv)
                                .strength = a.strength, .wrap = a.wrap, .y_down = a.y_down,
                                .to_derivative = a.to_derivative, .bits = a.bits};
     bgt_err err;
-    return cli_report(CMD, bgt_heightmap_run(&opts, &err), &err);
+    double t0 = cli_now();
+    bg_status st = bgt_heightmap_run(&opts, &err);
+    double dt = cli_now() - t0;
+    if (st != BG_OK)
+        return cli_report(CMD, st, &err);
+    if (a.json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, CMD, dt);
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "input", pos[0]);
+        cli_json_str(&j, "output", pos[1]);
+        cli_json_str(&j, "gray", a.gray == BGT_GRAY_REC709 ? "rec709" : "seed");
+        cli_json_float(&j, "strength", a.strength);
+        cli_json_str(&j, "edge", a.wrap ? "wrap" : "clamp");
+        cli_json_bool(&j, "y_down", a.y_down);
+        cli_json_bool(&j, "to_derivative", a.to_derivative);
+        if (a.bits)
+            cli_json_int(&j, "bits", a.bits);
+        else
+            cli_json_str(&j, "bits", "default");
+        cli_json_close(&j);
+        cli_json_end(&j);
+    }
+    return CLI_OK;
 }

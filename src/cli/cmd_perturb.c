@@ -8,11 +8,12 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 #include "points/points.h"
 
 typedef struct perturb_args {
     const char *input, *output;
-    int method, threads, allow_nonfinite;
+    int method, threads, allow_nonfinite, json;
     bgt_height height;
 } perturb_args;
 
@@ -41,6 +42,9 @@ static const cli_opt perturb_opts[] = {
     {.name = "allow-nonfinite", .kind = CLI_KIND_FLAG, .offset = A(allow_nonfinite),
      .help = "accept nan/inf fields (see the NaN rules in surfgrad.h); without it they are an "
              "error"},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print one JSON object of statistics on standard output (rows, inward rows, rows "
+             "inside a --height-grid, time, ISA, every parameter); needs --output FILE"},
     CLI_OPT_INCLUDE(A(height), cli_height_opts, cli_height_heading),
     CLI_OPT_END,
 };
@@ -84,6 +88,8 @@ int cmd_perturb(int argc, char **argv)
     int rc = cli_args_parse(&cli_spec_perturb, argc, argv, &a, NULL, NULL);
     if (rc)
         return rc == CLI_HELP ? CLI_OK : rc;
+    if (a.json && strcmp(a.output, "-") == 0)
+        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
     bgt_err herr;
     bg_status hs = bgt_height_open(&a.height, &herr);
     if (hs != BG_OK)
@@ -93,13 +99,51 @@ int cmd_perturb(int argc, char **argv)
 
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    size_t rows_done = 0;
-    prog.rows = &rows_done;
+    bgt_points_stats stats = {0};
+    prog.rows = &stats.rows;
     bgt_perturb_opts opts = {.input = a.input, .output = a.output, .height = &a.height,
                              .method = (bg_perturb_method)a.method, .threads = a.threads,
-                             .allow_nonfinite = a.allow_nonfinite, .progress = &sink, .rows_done = &rows_done};
+                             .allow_nonfinite = a.allow_nonfinite, .progress = &sink, .stats = &stats};
     bgt_err err;
-    rc = cli_report(cmd, bgt_perturb_run(&opts, &err), &err);
+    double t0 = cli_now();
+    bg_status st = bgt_perturb_run(&opts, &err);
+    double dt = cli_now() - t0;
     bgt_height_close(&a.height);
-    return rc;
+    if (st != BG_OK)
+        return cli_report(cmd, st, &err);
+    const double *gb = stats.grid_box;
+    if (stats.grid && stats.rows > 0 && stats.in_grid == 0)
+        cli_warn(cmd, "none of the %zu points lies in the active region of %s (active voxel "
+                      "centres in [%g,%g,%g]..[%g,%g,%g]): the height is 0 there and every "
+                      "normal is unchanged",
+                 stats.rows, a.height.grid_path, gb[0], gb[1], gb[2], gb[3], gb[4], gb[5]);
+    else if (stats.grid)
+        cli_info(cmd, "%zu of %zu points inside the active box of %s", stats.in_grid, stats.rows,
+                 a.height.grid_path);
+    cli_info(cmd, "%zu rows in %.3f s, %zu inward (%s, %d threads)", stats.rows, dt,
+             stats.inward, bg_isa_name(bg_isa_active()), a.threads);
+    if (a.json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, cmd, dt);
+        cli_json_int(&j, "rows", (long long)stats.rows);
+        cli_json_num(&j, "rows_per_second", dt > 0 ? (double)stats.rows / dt : 0.0);
+        cli_json_int(&j, "inward", (long long)stats.inward);
+        cli_json_num(&j, "inward_fraction",
+                     stats.rows ? (double)stats.inward / (double)stats.rows : 0.0);
+        if (stats.grid) {
+            cli_json_int(&j, "in_grid", (long long)stats.in_grid);
+            cli_json_nums(&j, "grid_active_box", gb, 6);
+        }
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "input", a.input);
+        cli_json_str(&j, "output", a.output);
+        cli_json_str(&j, "method", cli_method_name((bg_perturb_method)a.method));
+        cli_json_int(&j, "threads", a.threads);
+        cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);
+        cli_json_height(&j, "height", &a.height);
+        cli_json_close(&j);
+        cli_json_end(&j);
+    }
+    return CLI_OK;
 }

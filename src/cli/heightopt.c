@@ -10,6 +10,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 
 /* Choice fields are stored as int. */
 _Static_assert(sizeof(bg_function) == sizeof(int), "bg_function is stored as int");
@@ -165,4 +166,23 @@ void cli_height_help(FILE *fp)
     bgt_height d;
     bgt_height_init(&d);
     cli_args_help_opts(fp, wrapped, &d);
+}
+
+void cli_json_height(cli_json *j, const char *key, const bgt_height *h)
+{
+    cli_json_object(j, key);
+    if (h->grid_path) {
+        cli_json_str(j, "grid_path", h->grid_path);
+        cli_json_str(j, "grid_name", h->grid_name);
+    } else {
+        cli_json_str(j, "function", cli_function_name(h->h.fractal.function));
+        cli_json_int(j, "octaves", h->h.fractal.octaves);
+        cli_json_float(j, "lacunarity", h->h.fractal.lacunarity);
+        cli_json_float(j, "gain", h->h.fractal.gain);
+        cli_json_float(j, "amplitude", h->h.amplitude);
+        cli_json_float(j, "frequency", h->h.frequency);
+        cli_json_str(j, "gradient", h->h.gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic");
+        cli_json_float(j, "step", h->h.step != 0 ? h->h.step : BG_DEFAULT_CENTRAL_STEP);
+    }
+    cli_json_close(j);
 }

@@ -12,7 +12,9 @@
  * src/cli/meson.build (cli_tool_sources if it needs the I/O shim), and add one
  * line in the matching block here. */
 static const char *const bench_own[] = {"--isa", NULL};
+#if BG_HAVE_TOOLS
 static const char *const mesh_own[] = {"--quiet", NULL};
+#endif
 static const cli_command commands[] = {
     {"eval", "noise / fBm / turbulence value and gradient at points from a CSV table", cmd_eval,
      &cli_spec_eval, NULL},

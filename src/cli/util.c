@@ -5,6 +5,7 @@
  * but wrong picture rather than a failure. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
+#include "json.h"
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>
@@ -349,4 +350,13 @@ bgt_progress cli_progress_sink(cli_progress *p)
     memset(p, 0, sizeof *p);
     bgt_progress s = {sink_begin, sink_update, sink_end, p};
     return s;
+}
+
+void cli_json_common(cli_json *j, const char *cmd, double seconds)
+{
+    cli_json_str(j, "command", cmd);
+    cli_json_str(j, "version", bg_version_string());
+    cli_json_str(j, "isa", bg_isa_name(bg_isa_active()));
+    cli_json_str(j, "isa_best", bg_isa_name(bg_isa_best()));
+    cli_json_num(j, "seconds", seconds);
 }

@@ -163,6 +163,35 @@ def tools():
         check(rc == 2 and "stream" in err, "volume -o - refused: %r" % err)
         rc, so, err = run(["heightmap", "-", os.path.join(d, "n.png")])
         check(rc == 2 and "not supported" in err, "heightmap - refused: %r" % err)
+        rc, so, err = run(["volume", "--json", "--voxel-size", "0.25", "--band-sphere",
+                           "0,0,0,0.5,0.25", "--function=fbm", "-o", out])
+        j = json_check(so, "volume --json")
+        check(rc == 0 and j.get("active_voxels", 0) > 0 and
+              j.get("parameters", {}).get("height", {}).get("function") == "fbm",
+              "volume json: %r" % j)
+        # --height-grid that no point reaches: a warning with the count.
+        rc, so, err = run(["perturb", "--height-grid", out, "-i", "-", "-o", "-"],
+                          b"x,y,z,nx,ny,nz\n10,10,10,0,0,1\n11,10,10,0,0,1\n")
+        check(rc == 0 and "warning" in err and "none of the 2 points" in err,
+              "perturb --height-grid missing every point warns: %r" % err)
+        rc, so, err = run(["perturb", "--height-grid", out, "-i", "-", "-o", "-"],
+                          b"x,y,z,nx,ny,nz\n0.5,0,0,1,0,0\n11,10,10,0,0,1\n")
+        check(rc == 0 and "warning" not in err, "a point in the grid: no warning: %r" % err)
+        hm_in = os.path.join(d, "h.png")
+        with open(hm_in, "wb") as f:
+            # 2x2 8-bit gray PNG
+            import struct
+            import zlib
+            def chunk(t, data):
+                c = struct.pack(">I", len(data)) + t + data
+                return c + struct.pack(">I", zlib.crc32(t + data) & 0xffffffff)
+            raw = b"\x00\x00\x80\x00\xff\x40"
+            f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 0, 0, 0, 0))
+                    + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+        rc, so, err = run(["heightmap", hm_in, os.path.join(d, "n.png"), "--json", "--strength=2"])
+        j = json_check(so, "heightmap --json")
+        check(rc == 0 and j.get("parameters", {}).get("strength") == 2, "heightmap json: %r %r"
+              % (j, err))
         rc, so, err = run(["volume", "--help"])
         check("(default -1,-1,-1,1,1,1)" in so and "(default 0.02)" in so,
               "volume --help says its default box and voxel size")
@@ -208,7 +237,47 @@ def csv():
         check("\\x22" not in err, "a quote shows as a quote: %r" % err)
 
 
-{"syntax": syntax, "csv": csv, "help": help_, "generated": generated, "progress": progress,
+def json_check(text, what):
+    p = subprocess.run(["/usr/bin/python3", "-m", "json.tool"], input=text, capture_output=True,
+                       text=True)
+    check(p.returncode == 0, "%s: python3 -m json.tool accepts it: %r" % (what, p.stderr))
+    import json
+    try:
+        return json.loads(text)
+    except ValueError:
+        return {}
+
+
+def json_():
+    with tempfile.TemporaryDirectory() as d:
+        # A file name that needs escaping: quote, backslash, tab, newline.
+        inp = os.path.join(d, 'in "q" \\ \t\n.csv')
+        with open(inp, "wb") as f:
+            f.write(b"id,x,y,z,nx,ny,nz\n1,0.3,0.2,0.1,0,0,1\n2,1,2,3,0,1,0\n3,0,0,0,0,0,0\n")
+        outp = os.path.join(d, "o.csv")
+        rc, out, err = run(["perturb", "--json", "--method=additive", "--amplitude=2",
+                            "-i", inp, "-o", outp])
+        check(rc == 0, "perturb --json: %d %r" % (rc, err))
+        j = json_check(out, "perturb --json")
+        with open(outp) as f:
+            inward = sum(ln.rstrip().endswith(",1") for ln in f.readlines()[1:])
+        check(j.get("rows") == 3 and j.get("inward") == inward and j.get("command") == "perturb",
+              "perturb json counts: %r (inward in the table: %d)" % (j, inward))
+        par = j.get("parameters", {})
+        check(par.get("input") == inp and par.get("method") == "additive" and
+              par.get("height", {}).get("amplitude") == 2 and "isa" in j,
+              "perturb json parameters (escaped file name read back): %r" % par)
+        with open(inp, "wb") as f:
+            f.write(b"x,y,z\n1,2,3\n4,5,6\n")
+        rc, out, err = run(["eval", "--json", "--precision=double", "-i", inp, "-o", outp])
+        j = json_check(out, "eval --json")
+        check(rc == 0 and j.get("rows") == 2 and
+              j.get("parameters", {}).get("precision") == "double", "eval json: %r" % j)
+        rc, out, err = run(["eval", "--json", "-i", inp, "-o", "-"])
+        check(rc == 2 and "--json" in err, "eval --json -o - refused: %r" % err)
+
+
+{"syntax": syntax, "csv": csv, "json": json_, "help": help_, "generated": generated, "progress": progress,
  "tools": tools}[sys.argv[2]]()
 if FAILURES:
     print("%d failure(s)" % len(FAILURES))

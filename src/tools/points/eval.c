@@ -153,8 +153,8 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
             break;
         }
         total_rows += rows;
-        if (o->rows_done)
-            *o->rows_done = total_rows;
+        if (o->stats)
+            o->stats->rows = total_rows;
         bgt_progress_update(o->progress, in.consumed);
     }
     bgt_progress_end(o->progress);

@@ -10,6 +10,9 @@
 #include "common/csv.h"
 #include "common/parallel.h"
 #include "common/safe_file.h"
+#if BG_HAVE_TOOLS
+#include "bumpgrad/volume.h"
+#endif
 
 #define PERTURB_BLOCK 8192
 #define PERTURB_CHUNK 1024
@@ -102,6 +105,29 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 
     bgt_progress_begin(o->progress, "perturb", in.size);
     size_t total_rows = 0;
+    /* A VDB height is zero (and flat) outside its active voxels: count the
+     * points inside their world box, one voxel of margin (the stencil's reach),
+     * so that a table that misses the grid entirely can be reported. */
+    int grid = 0;
+    double box[6] = {0};
+#if BG_HAVE_TOOLS
+    if (o->height->grid) {
+        bg_vdb_height_info info;
+        bg_vdb_height_get_info((const bg_vdb_height *)o->height->grid, &info);
+        for (int k = 0; k < 3; k++) {
+            box[k] = info.world_min[k] - info.voxel_size[k];
+            box[3 + k] = info.world_max[k] + info.voxel_size[k];
+        }
+        grid = 1;
+        if (o->stats) {
+            o->stats->grid = 1;
+            for (int k = 0; k < 3; k++) {
+                o->stats->grid_box[k] = info.world_min[k];
+                o->stats->grid_box[3 + k] = info.world_max[k];
+            }
+        }
+    }
+#endif
     for (;;) {
         size_t rows;
         rc = bgt_csv_read_float(&in, 6, job.c, PERTURB_BLOCK, &rows);
@@ -109,15 +135,21 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
             break;
         bgt_parallel_for(rows, PERTURB_CHUNK, o->threads, perturb_chunk, &job);
         float **c = job.c;
+        size_t block_inward = 0, block_in_grid = 0;
+        if (grid)
+            for (size_t r = 0; r < rows; r++)
+                block_in_grid += c[0][r] >= box[0] && c[0][r] <= box[3] && c[1][r] >= box[1] &&
+                                 c[1][r] <= box[4] && c[2][r] >= box[2] && c[2][r] <= box[5];
         for (size_t r = 0; r < rows; r++) {
             const char *x;
             size_t xl;
             row_prefix(out.fp, &in, r, &x, &xl);
+            int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+            block_inward += (size_t)inward;
             fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d",
                     (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
                     (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
-                    (double)c[8][r], (double)c[9][r],
-                    is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]));
+                    (double)c[8][r], (double)c[9][r], inward);
             row_suffix(out.fp, &in, x, xl);
         }
         if (ferror(out.fp)) {
@@ -126,8 +158,11 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
             break;
         }
         total_rows += rows;
-        if (o->rows_done)
-            *o->rows_done = total_rows;
+        if (o->stats) {
+            o->stats->rows = total_rows;
+            o->stats->inward += block_inward;
+            o->stats->in_grid += block_in_grid;
+        }
         bgt_progress_update(o->progress, in.consumed);
     }
     bgt_progress_end(o->progress);
