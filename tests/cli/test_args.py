@@ -277,7 +277,64 @@ def json_():
         check(rc == 2 and "--json" in err, "eval --json -o - refused: %r" % err)
 
 
-{"syntax": syntax, "csv": csv, "json": json_, "help": help_, "generated": generated, "progress": progress,
+def npy():
+    import numpy as np
+    rng = np.random.default_rng(12)
+    with tempfile.TemporaryDirectory() as d:
+        a32 = rng.uniform(-8, 8, size=(9000, 3)).astype(np.float32)
+        a64 = rng.uniform(-8, 8, size=(9000, 3))
+        np.save(os.path.join(d, "a32.npy"), a32)
+        np.save(os.path.join(d, "a64.npy"), a64)
+        for name, arr, prec, fmt in (("a32", a32, "float", "%.9g"), ("a64", a64, "double", "%.17g"),
+                                     ("a32", a32, "double", "%.17g")):
+            csvp = os.path.join(d, name + ".csv")
+            with open(csvp, "w") as f:
+                f.write("x,y,z\n")
+                np.savetxt(f, arr, fmt=fmt, delimiter=",")
+            outn, outc = os.path.join(d, "o.NPY"), os.path.join(d, "o.csv")
+            rc1, _, e1 = run(["eval", "--precision", prec, "--function=turbulence", "-i",
+                              os.path.join(d, name + ".npy"), "-o", outn])
+            rc2, _, e2 = run(["eval", "--precision", prec, "--function=turbulence", "-i", csvp,
+                              "-o", outc])
+            check(rc1 == 0 and rc2 == 0, "eval .npy (%s, %s): %r %r" % (name, prec, e1, e2))
+            o = np.load(outn)
+            c = np.loadtxt(outc, delimiter=",", skiprows=1)
+            dt = np.float64 if prec == "double" else np.float32
+            check(o.dtype == dt and o.shape == (len(arr), 7), "npy output %s %s" % (o.dtype, o.shape))
+            check(np.array_equal(o, c.astype(dt)), "npy output equals the CSV output (%s, %s)"
+                  % (name, prec))
+        n = np.concatenate([a32, np.tile(np.float32([0, 0, 1]), (len(a32), 1))], axis=1)
+        np.save(os.path.join(d, "n.npy"), n)
+        rc, _, err = run(["perturb", "--method", "additive", "--amplitude", "3", "-i",
+                          os.path.join(d, "n.npy"), "-o", os.path.join(d, "p.npy")])
+        p = np.load(os.path.join(d, "p.npy"))
+        check(rc == 0 and p.shape == (len(n), 11) and np.array_equal(p[:, :6], n) and
+              set(np.unique(p[:, 10])) <= {0.0, 1.0}, "perturb .npy: %r %s" % (err, p.shape))
+        cases = [("be.npy", a32.astype(">f4"), "byte 20:", "dtype"),
+                 ("two.npy", a32[:, :2].copy(), "byte", "expected 3 columns"),
+                 ("fortran.npy", np.asfortranarray(a32), "byte", "Fortran"),
+                 ("int.npy", np.zeros((4, 3), np.int32), "byte", "dtype")]
+        nan = a32.copy()
+        nan[5, 2] = np.nan
+        cases.append(("nan.npy", nan, "byte %d:" % (128 + (5 * 3 + 2) * 4), "non-finite"))
+        for fname, arr, where, part in cases:
+            path = os.path.join(d, fname)
+            np.save(path, arr)
+            rc, _, err = run(["eval", "-i", path, "-o", os.path.join(d, "x.npy")])
+            check(rc == 2 and (path + ": " + where) in err and part in err,
+                  "bad .npy %s: %d %r" % (fname, rc, err))
+        with open(os.path.join(d, "a32.npy"), "rb") as f:
+            data = f.read()
+        for cut, what in ((len(data) - 6, "truncated"), (5, "magic")):
+            path = os.path.join(d, "cut.npy")
+            with open(path, "wb") as f:
+                f.write(data[:cut])
+            rc, _, err = run(["eval", "-i", path, "-o", os.path.join(d, "x.npy")])
+            check(rc == 2 and path + ": byte" in err and what in err, "cut .npy: %r" % err)
+        check(not os.path.exists(os.path.join(d, "x.npy")), "no output after bad .npy input")
+
+
+{"syntax": syntax, "csv": csv, "json": json_, "npy": npy, "help": help_, "generated": generated, "progress": progress,
  "tools": tools}[sys.argv[2]]()
 if FAILURES:
     print("%d failure(s)" % len(FAILURES))

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "common/csv.h"
+#include "common/npy.h"
+#include "table.h"
 #include "common/parallel.h"
 #include "common/safe_file.h"
 #if BG_HAVE_TOOLS
@@ -76,34 +78,37 @@ static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
 
 bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 {
-    bgt_csv in;
+    bgt_table_in tin;
     bg_status rc;
-    if ((rc = bgt_csv_open(&in, e, o->input, o->allow_nonfinite)))
+    if ((rc = bgt_table_open(&tin, e, o->input, o->allow_nonfinite, perturb_header, 6)))
         return rc;
-    if ((rc = bgt_csv_header_map(&in, perturb_header, 6))) {
-        bgt_csv_close(&in);
-        return rc;
-    }
+    const bgt_csv *inp = &tin.csv;
+    const int npy_out = bgt_npy_path(o->output);
     perturb_job job = {.h = o->height, .method = o->method};
-    float *mem = malloc(10 * PERTURB_BLOCK * sizeof(float));
+    float *mem = malloc(11 * PERTURB_BLOCK * sizeof(float));
     if (!mem) {
-        bgt_csv_close(&in);
+        bgt_table_close(&tin);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
     for (int k = 0; k < 10; k++)
         job.c[k] = mem + (size_t)k * PERTURB_BLOCK;
+    float *inward_col = mem + (size_t)10 * PERTURB_BLOCK; /* for .npy output */
 
     bgt_safe_file out;
     if ((rc = bgt_safe_open(&out, o->output, e))) {
         free(mem);
-        bgt_csv_close(&in);
+        bgt_table_close(&tin);
         return rc;
     }
     static char obuf[1 << 16];
     setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    write_header(out.fp, &in, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
+    bgt_npy_out nout;
+    if (npy_out)
+        bgt_npy_begin(&nout, out.fp, 0, 11, e);
+    else
+        write_header(out.fp, inp, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
 
-    bgt_progress_begin(o->progress, "perturb", in.size);
+    bgt_progress_begin(o->progress, "perturb", bgt_table_size(&tin));
     size_t total_rows = 0;
     /* A VDB height is zero (and flat) outside its active voxels: count the
      * points inside their world box, one voxel of margin (the stencil's reach),
@@ -130,7 +135,7 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 #endif
     for (;;) {
         size_t rows;
-        rc = bgt_csv_read_float(&in, 6, job.c, PERTURB_BLOCK, &rows);
+        rc = bgt_table_read(&tin, 6, 0, job.c, NULL, PERTURB_BLOCK, &rows);
         if (rc || rows == 0)
             break;
         bgt_parallel_for(rows, PERTURB_CHUNK, o->threads, perturb_chunk, &job);
@@ -140,17 +145,29 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
             for (size_t r = 0; r < rows; r++)
                 block_in_grid += c[0][r] >= box[0] && c[0][r] <= box[3] && c[1][r] >= box[1] &&
                                  c[1][r] <= box[4] && c[2][r] >= box[2] && c[2][r] <= box[5];
-        for (size_t r = 0; r < rows; r++) {
+        for (size_t r = 0; r < rows && npy_out; r++) {
+            int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+            block_inward += (size_t)inward;
+            inward_col[r] = (float)inward;
+        }
+        if (npy_out) {
+            const float *cols[11];
+            for (int k = 0; k < 10; k++)
+                cols[k] = c[k];
+            cols[10] = inward_col;
+            bgt_npy_write(&nout, cols, NULL, rows);
+        }
+        for (size_t r = 0; r < rows && !npy_out; r++) {
             const char *x;
             size_t xl;
-            row_prefix(out.fp, &in, r, &x, &xl);
+            row_prefix(out.fp, inp, r, &x, &xl);
             int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
             block_inward += (size_t)inward;
             fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d",
                     (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
                     (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
                     (double)c[8][r], (double)c[9][r], inward);
-            row_suffix(out.fp, &in, x, xl);
+            row_suffix(out.fp, inp, x, xl);
         }
         if (ferror(out.fp)) {
             rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
@@ -163,11 +180,13 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
             o->stats->inward += block_inward;
             o->stats->in_grid += block_in_grid;
         }
-        bgt_progress_update(o->progress, in.consumed);
+        bgt_progress_update(o->progress, bgt_table_consumed(&tin));
     }
     bgt_progress_end(o->progress);
-    bgt_csv_close(&in);
+    bgt_table_close(&tin);
     free(mem);
+    if (!rc && npy_out)
+        rc = bgt_npy_finish(&nout, o->output, e);
     if (rc) {
         bgt_safe_abort(&out);
         return rc;
