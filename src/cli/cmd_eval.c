@@ -66,10 +66,14 @@ const cli_spec cli_spec_eval = {
     .about = "Evaluate Perlin's improved noise (2002), fBm or turbulence (1985) and its\n"
              "gradient at every point of a CSV table.\n"
              "\n"
-             "Input:  header \"x,y,z\", then one point per line.\n"
+             "Input:  a header naming the columns x, y, z (any order, any case, quoted or\n"
+             "        not), then one point per line. A column \"id\" is written first in the\n"
+             "        output; any other column is passed through, unchanged, at the end.\n"
+             "        Or FILE.npy: a float32/float64 array of shape (N, 3).\n"
              "Output: header \"x,y,z,value,dx,dy,dz\"; (dx,dy,dz) is the gradient of value.\n"
              "        Numbers are printed to read back exactly: %.9g in float, %.17g in\n"
-             "        double. x,y,z are the input values as parsed in that precision.\n",
+             "        double. x,y,z are the input values as parsed in that precision.\n"
+             "        Or FILE.npy: shape (N, 7), float32 (or float64 with --precision double).\n",
     .opts = eval_opts,
     .more = "Input rules: fields may have spaces around them; CRLF line ends and a missing\n"
             "final newline are accepted; blank lines are accepted only at the end. Any\n"
