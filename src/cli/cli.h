@@ -18,10 +18,17 @@
  * 2 bad input or usage (the message names the argument, file, line, column). */
 enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 
+struct cli_spec;
 typedef struct cli_command {
     const char *name;
     const char *summary;
     int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
+    /* The option table (args.h) of a converted command; NULL for the commands
+     * still parsed by hand (their --opt=value is split by main.c). */
+    const struct cli_spec *spec;
+    /* Unconverted commands: options main.c must leave to them although they
+     * look global (bench --isa, mesh --quiet). NULL-terminated or NULL. */
+    const char *const *own;
 } cli_command;
 
 /* Subcommands (one file each: cmd_<name>.c), listed in main.c. */
@@ -34,6 +41,9 @@ int cmd_stability(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_volume(int argc, char **argv);
 int cmd_heightmap(int argc, char **argv);
+/* Specs of the commands on the table parser (args.h). */
+extern const struct cli_spec cli_spec_eval, cli_spec_perturb, cli_spec_accuracy,
+    cli_spec_stability, cli_spec_volume, cli_spec_heightmap;
 
 /* ---- messages ---- */
 /* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_USAGE for chaining. */
@@ -62,12 +72,33 @@ int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **
 int cli_exit_code(bg_status s);
 int cli_report(const char *cmd, bg_status s, const bgt_err *e);
 
-/* ---- progress on stderr, only when stderr is a terminal ---- */
+/* ---- global options (main.c strips them from anywhere on the command line):
+ * --quiet/-q: errors only (no progress, no summary lines); --progress: the
+ * progress line even when stderr is not a terminal; -v/--verbose: detail
+ * (final rate and timing, parameters) on stderr. ---- */
+typedef struct cli_globals {
+    int quiet, verbose, progress;
+} cli_globals;
+extern cli_globals cli_global;
+int cli_quiet(void);
+int cli_verbose(void);
+/* "bumpgrad <cmd>: warning: ..." on stderr (also with --quiet: a warning says
+ * that nothing happened). */
+void cli_warn(const char *cmd, const char *fmt, ...);
+/* "bumpgrad <cmd>: ..." on stderr, only with -v. */
+void cli_info(const char *cmd, const char *fmt, ...);
+/* Monotonic seconds. */
+double cli_now(void);
+
+/* ---- progress on stderr: on a terminal by default (a redrawn line with rate,
+ * unit and ETA), one line per second with --progress elsewhere; a final line
+ * with --progress off a terminal or with -v. ---- */
 typedef struct cli_progress {
-    const char *label;
-    size_t total, last_shown;
-    int enabled;
-    double t0;
+    const char *label, *unit;
+    size_t total, last_shown, done, items;
+    const size_t *rows; /* set after cli_progress_sink: rows done, read at each update */
+    int enabled, tty, verbose;
+    double t0, last_t;
 } cli_progress;
 void cli_progress_begin(cli_progress *p, const char *label, size_t total);
 void cli_progress_update(cli_progress *p, size_t done);

@@ -4,46 +4,78 @@
  * for any number of rows, and written through a temporary file, so a bad row
  * at line 900000 leaves no partial output. Numbers are printed with enough
  * digits (9 for float, 17 for double) to read back to the same bits. */
-#include "cli.h"
-#include "points/points.h"
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
+#include "cli.h"
+#include "json.h"
+#include "points/points.h"
 
-/* Rows per block: large enough that per-block costs (thread start, stdio calls)
- * vanish, small enough (~460 KB of columns in double) to stay in L2. */
+typedef struct eval_args {
+    const char *input, *output;
+    bg_fractal fractal;
+    int central, dbl, threads, allow_nonfinite, json;
+    double step;
+} eval_args;
 
-
-static void eval_help(FILE *fp)
+static void eval_defaults(void *p)
 {
-    fprintf(fp,
-            "Usage: bumpgrad eval [options] --input IN.csv --output OUT.csv\n"
-            "\n"
-            "Evaluate Perlin's improved noise (2002), fBm or turbulence (1985) and its\n"
-            "gradient at every point of a CSV table.\n"
-            "\n"
-            "Input:  header \"x,y,z\", then one point per line.\n"
-            "Output: header \"x,y,z,value,dx,dy,dz\"; (dx,dy,dz) is the gradient of value.\n"
-            "        Numbers are printed to read back exactly: %%.9g in float, %%.17g in\n"
-            "        double. x,y,z are the input values as parsed in that precision.\n"
-            "\n"
-            "Options:\n"
-            "  -i, --input FILE        input table, \"-\" for standard input (required)\n"
-            "  -o, --output FILE       output table, \"-\" for standard output (required);\n"
-            "                          written to a temporary file and renamed on success\n"
-            "  --function NAME         noise (default), fbm or turbulence\n"
-            "  --octaves N             octaves of fbm/turbulence, 1..%d (default %d)\n"
-            "  --lacunarity L          frequency ratio between octaves, > 0 (default 2)\n"
-            "  --gain G                amplitude ratio between octaves (default 0.5)\n"
-            "  --gradient MODE         analytic (default) or central differences\n"
-            "  --step H                central-difference step (default %g)\n"
-            "  --precision P           float (default; SIMD batch kernels) or double\n"
-            "                          (scalar; double noise equals Perlin's reference)\n"
-            "  --threads N             worker threads (default: all cores)\n"
-            "  --allow-nonfinite       accept nan/inf coordinates (their results are NaN);\n"
-            "                          without it they are an error\n"
-            "  -h, --help              this help\n"
-            "\n"
-            "Input rules: fields may have spaces around them; CRLF line ends and a missing\n"
+    eval_args *a = p;
+    memset(a, 0, sizeof *a);
+    a->fractal = bg_fractal_default(BG_FUNC_NOISE);
+    a->fractal.octaves = BG_DEFAULT_OCTAVES; /* noise ignores it; kept for --function fbm */
+    a->step = (double)BG_DEFAULT_CENTRAL_STEP;
+}
+
+static const char *const gradient_choices[] = {"analytic", "central", NULL};
+static const char *const precision_choices[] = {"float", "double", NULL};
+
+#define A(m) offsetof(eval_args, m)
+static const cli_opt eval_opts[] = {
+    {.name = "input", .short_name = 'i', .kind = CLI_KIND_STRING, .offset = A(input),
+     .metavar = "FILE", .help = "input table, \"-\" for standard input", .flags = CLI_REQUIRED | CLI_FILE,
+     .complete_ext = "csv"},
+    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = A(output),
+     .metavar = "FILE", .help = "output table, \"-\" for standard output; written to a temporary "
+                                "file and renamed on success",
+     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    CLI_OPT_INCLUDE(A(fractal), cli_fractal_opts, NULL),
+    {.name = "gradient", .kind = CLI_KIND_CHOICE, .offset = A(central), .metavar = "MODE",
+     .help = "analytic gradient or central differences", .choices = gradient_choices},
+    {.name = "step", .kind = CLI_KIND_DOUBLE, .offset = A(step), .metavar = "H",
+     .help = "central-difference step, > 0", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "precision", .kind = CLI_KIND_CHOICE, .offset = A(dbl), .metavar = "P",
+     .help = "float (SIMD batch kernels) or double (scalar; double noise equals Perlin's "
+             "reference)",
+     .choices = precision_choices},
+    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
+     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024},
+    {.name = "allow-nonfinite", .kind = CLI_KIND_FLAG, .offset = A(allow_nonfinite),
+     .help = "accept nan/inf coordinates (their results are NaN); without it they are an error"},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print one JSON object of statistics on standard output (rows, time, ISA, every "
+             "parameter); needs --output FILE"},
+    CLI_OPT_END,
+};
+#undef A
+
+const cli_spec cli_spec_eval = {
+    .name = "eval",
+    .summary = "noise / fBm / turbulence value and gradient at points from a CSV table",
+    .usage = "[options] --input IN.csv --output OUT.csv",
+    .about = "Evaluate Perlin's improved noise (2002), fBm or turbulence (1985) and its\n"
+             "gradient at every point of a CSV table.\n"
+             "\n"
+             "Input:  a header naming the columns x, y, z (any order, any case, quoted or\n"
+             "        not), then one point per line. A column \"id\" is written first in the\n"
+             "        output; any other column is passed through, unchanged, at the end.\n"
+             "        Or FILE.npy: a float32/float64 array of shape (N, 3).\n"
+             "Output: header \"x,y,z,value,dx,dy,dz\"; (dx,dy,dz) is the gradient of value.\n"
+             "        Numbers are printed to read back exactly: %.9g in float, %.17g in\n"
+             "        double. x,y,z are the input values as parsed in that precision.\n"
+             "        Or FILE.npy: shape (N, 7), float32 (or float64 with --precision double).\n",
+    .opts = eval_opts,
+    .more = "Input rules: fields may have spaces around them; CRLF line ends and a missing\n"
             "final newline are accepted; blank lines are accepted only at the end. Any\n"
             "other problem (wrong header, wrong field count, text that is not a number,\n"
             "NaN/Inf without --allow-nonfinite, a number out of range of the precision)\n"
@@ -58,102 +90,62 @@ static void eval_help(FILE *fp)
             "  printf 'x,y,z\\n3.14,42,7\\n' | bumpgrad eval --precision double -i - -o -\n"
             "  bumpgrad eval --function turbulence --octaves 8 -i pts.csv -o out.csv\n"
             "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n",
-            BG_MAX_OCTAVES, BG_DEFAULT_OCTAVES, (double)BG_DEFAULT_CENTRAL_STEP);
-}
+    .args_size = sizeof(eval_args),
+    .defaults = eval_defaults,
+};
 
 int cmd_eval(int argc, char **argv)
 {
-    const char *cmd = "eval", *in_path = NULL, *out_path = NULL, *v;
-    bg_fractal f = bg_fractal_default(BG_FUNC_NOISE);
-    f.octaves = BG_DEFAULT_OCTAVES; /* noise ignores it; kept for --function fbm */
-    int central = 0, dbl = 0, allow_nonfinite = 0, threads = 0, rc;
-    double step = 0;
-    long l;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
-            eval_help(stdout);
-            return CLI_OK;
-        } else if (strcmp(o, "-i") == 0 || strcmp(o, "--input") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &in_path)))
-                return rc;
-        } else if (strcmp(o, "-o") == 0 || strcmp(o, "--output") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &out_path)))
-                return rc;
-        } else if (strcmp(o, "--function") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if ((rc = cli_parse_function(cmd, o, v, &f.function)))
-                return rc;
-        } else if (strcmp(o, "--octaves") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_int(cmd, o, v, 1, BG_MAX_OCTAVES, &l)))
-                return rc;
-            f.octaves = (int)l;
-        } else if (strcmp(o, "--lacunarity") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_float(cmd, o, v, &f.lacunarity)))
-                return rc;
-            if (!(f.lacunarity > 0))
-                return cli_usage_error(cmd, "%s: must be > 0, got \"%s\"", o, v);
-        } else if (strcmp(o, "--gain") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_float(cmd, o, v, &f.gain)))
-                return rc;
-        } else if (strcmp(o, "--gradient") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "analytic") == 0)
-                central = 0;
-            else if (strcmp(v, "central") == 0)
-                central = 1;
-            else
-                return cli_usage_error(cmd, "--gradient: expected analytic or central, got \"%s\"",
-                                       v);
-        } else if (strcmp(o, "--step") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_double(cmd, o, v, &step)))
-                return rc;
-            if (!(step > 0))
-                return cli_usage_error(cmd, "%s: must be > 0, got \"%s\"", o, v);
-        } else if (strcmp(o, "--precision") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "float") == 0)
-                dbl = 0;
-            else if (strcmp(v, "double") == 0)
-                dbl = 1;
-            else
-                return cli_usage_error(cmd, "--precision: expected float or double, got \"%s\"", v);
-        } else if (strcmp(o, "--threads") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_int(cmd, o, v, 0, 1024, &l)))
-                return rc;
-            threads = (int)l;
-        } else if (strcmp(o, "--allow-nonfinite") == 0) {
-            allow_nonfinite = 1;
-        } else {
-            return cli_usage_error(cmd, "unknown option \"%s\" (see bumpgrad eval --help)", o);
-        }
-    }
-    if (!in_path)
-        return cli_usage_error(cmd, "--input is required (\"-\" for standard input)");
-    if (!out_path)
-        return cli_usage_error(cmd, "--output is required (\"-\" for standard output)");
-    if (bg_fractal_validate(&f) != BG_OK)
+    const char *cmd = "eval";
+    eval_args a;
+    int rc = cli_args_parse(&cli_spec_eval, argc, argv, &a, NULL, NULL);
+    if (rc)
+        return rc == CLI_HELP ? CLI_OK : rc;
+    if (bg_fractal_validate(&a.fractal) != BG_OK)
         return cli_usage_error(cmd, "invalid fractal parameters");
-    if (step == 0)
-        step = (double)BG_DEFAULT_CENTRAL_STEP;
-    if (!dbl && !((float)step > 0))
-        return cli_usage_error(cmd, "--step %g is zero in float precision", step);
-    if (threads == 0)
-        threads = bgt_threads_default();
+    if (!a.dbl && !((float)a.step > 0))
+        return cli_usage_error(cmd, "--step %g is zero in float precision", a.step);
+    if (a.json && strcmp(a.output, "-") == 0)
+        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
+    if (a.threads == 0)
+        a.threads = bgt_threads_default();
 
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    bgt_eval_opts opts = {.input = in_path, .output = out_path, .fractal = f, .central = central,
-                          .dbl = dbl, .step = step, .threads = threads,
-                          .allow_nonfinite = allow_nonfinite, .progress = &sink};
+    bgt_points_stats stats = {0};
+    prog.rows = &stats.rows;
+    bgt_eval_opts opts = {.input = a.input, .output = a.output, .fractal = a.fractal,
+                          .central = a.central, .dbl = a.dbl, .step = a.step,
+                          .threads = a.threads, .allow_nonfinite = a.allow_nonfinite,
+                          .progress = &sink, .stats = &stats};
     bgt_err err;
-    return cli_report(cmd, bgt_eval_run(&opts, &err), &err);
+    double t0 = cli_now();
+    bg_status st = bgt_eval_run(&opts, &err);
+    double dt = cli_now() - t0;
+    if (st != BG_OK)
+        return cli_report(cmd, st, &err);
+    cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats.rows, dt,
+             bg_isa_name(bg_isa_active()), a.threads);
+    if (a.json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, cmd, dt);
+        cli_json_int(&j, "rows", (long long)stats.rows);
+        cli_json_num(&j, "rows_per_second", dt > 0 ? (double)stats.rows / dt : 0.0);
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "input", a.input);
+        cli_json_str(&j, "output", a.output);
+        cli_json_str(&j, "function", cli_function_name(a.fractal.function));
+        cli_json_int(&j, "octaves", a.fractal.octaves);
+        cli_json_float(&j, "lacunarity", a.fractal.lacunarity);
+        cli_json_float(&j, "gain", a.fractal.gain);
+        cli_json_str(&j, "gradient", a.central ? "central" : "analytic");
+        cli_json_num(&j, "step", a.step);
+        cli_json_str(&j, "precision", a.dbl ? "double" : "float");
+        cli_json_int(&j, "threads", a.threads);
+        cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);
+        cli_json_close(&j);
+        cli_json_end(&j);
+    }
+    return CLI_OK;
 }

@@ -4,111 +4,148 @@
  * (Mikkelsen 2010, eq. 2 and 4), or with Perlin's additive rule for comparison.
  * The `inward` column makes the failure of the additive rule countable: it marks
  * rows whose bumped normal faces away from the surface normal. */
-#include "cli.h"
-#include "points/points.h"
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
+#include "cli.h"
+#include "json.h"
+#include "points/points.h"
 
+typedef struct perturb_args {
+    const char *input, *output;
+    int method, threads, allow_nonfinite, json;
+    bgt_height height;
+} perturb_args;
 
-
-static void perturb_help(FILE *fp)
+static void perturb_defaults(void *p)
 {
-    fprintf(fp, "Usage: bumpgrad perturb [options] --input IN.csv --output OUT.csv\n"
-                "\n"
-                "Perturb surface normals with a solid height function h, in float:\n"
-                "  surfgrad         n' = normalize(n - grad_S h), grad_S h = g - n (n.g)\n"
-                "                   (Mikkelsen 2010, eq. 2 and 4; never faces inward while\n"
-                "                   |grad h| < ~1e7, where n' becomes tangent and rounding decides)\n"
-                "  additive         n' = normalize(n - g)   (Perlin's rule, gradient negated)\n"
-                "  additive-perlin  n' = normalize(n + g)   (Perlin 1985 as published)\n"
-                "where n is the input normal (normalized first) and g = grad h at (x,y,z).\n"
-                "\n"
-                "Input:  header \"x,y,z,nx,ny,nz\", then one surface point and normal per line.\n"
-                "Output: header \"x,y,z,nx,ny,nz,height,px,py,pz,inward\": the input, h(p),\n"
-                "        the perturbed unit normal and inward = 1 where dot(n', n) <= 0.\n"
-                "        A zero or non-finite normal gives n' = (0,0,0) and inward = 1.\n"
-                "        Numbers are printed with %%.9g (they read back to the same float).\n"
-                "\n"
-                "Options:\n"
-                "  -i, --input FILE    input table, \"-\" for standard input (required)\n"
-                "  -o, --output FILE   output table, \"-\" for standard output (required);\n"
-                "                      written to a temporary file and renamed on success\n"
-                "  --method M          surfgrad (default), additive or additive-perlin\n"
-                "  --threads N         worker threads (default: all cores)\n"
-                "  --allow-nonfinite   accept nan/inf fields (see the NaN rules in surfgrad.h);\n"
-                "                      without it they are an error\n"
-                "  -h, --help          this help\n");
-    cli_height_help(fp);
-    fprintf(fp, "\n"
-                "Input rules: as for `bumpgrad eval` (strict CSV; errors name FILE:LINE:COLUMN\n"
-                "and leave no output). Exit status: 0 success, 1 I/O failure, 2 bad input or\n"
-                "usage.\n"
-                "\n"
-                "Examples:\n"
-                "  bumpgrad perturb -i surface.csv -o bumped.csv\n"
-                "  bumpgrad perturb --method additive --amplitude 0.5 -i surface.csv -o add.csv\n"
-                "  printf 'x,y,z,nx,ny,nz\\n0.3,0.2,0.1,0,0,1\\n' | bumpgrad perturb -i - -o -\n");
+    perturb_args *a = p;
+    memset(a, 0, sizeof *a);
+    a->method = BG_PERTURB_SURFGRAD;
+    bgt_height_init(&a->height);
 }
+
+#define A(m) offsetof(perturb_args, m)
+static const cli_opt perturb_opts[] = {
+    {.name = "input", .short_name = 'i', .kind = CLI_KIND_STRING, .offset = A(input),
+     .metavar = "FILE", .help = "input table, \"-\" for standard input",
+     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = A(output),
+     .metavar = "FILE", .help = "output table, \"-\" for standard output; written to a temporary "
+                                "file and renamed on success",
+     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    {.name = "method", .kind = CLI_KIND_CHOICE, .offset = A(method), .metavar = "M",
+     .help = "surfgrad, additive or additive-perlin", .choices = cli_method_choices,
+     .choice_values = cli_method_values},
+    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
+     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024},
+    {.name = "allow-nonfinite", .kind = CLI_KIND_FLAG, .offset = A(allow_nonfinite),
+     .help = "accept nan/inf fields (see the NaN rules in surfgrad.h); without it they are an "
+             "error"},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print one JSON object of statistics on standard output (rows, inward rows, rows "
+             "inside a --height-grid, time, ISA, every parameter); needs --output FILE"},
+    CLI_OPT_INCLUDE(A(height), cli_height_opts, cli_height_heading),
+    CLI_OPT_END,
+};
+#undef A
+
+const cli_spec cli_spec_perturb = {
+    .name = "perturb",
+    .summary = "bump surface normals from a CSV table (surface gradient or additive)",
+    .usage = "[options] --input IN.csv --output OUT.csv",
+    .about =
+        "Perturb surface normals with a solid height function h, in float:\n"
+        "  surfgrad         n' = normalize(n - grad_S h), grad_S h = g - n (n.g)\n"
+        "                   (Mikkelsen 2010, eq. 2 and 4; never faces inward while\n"
+        "                   |grad h| < ~1e7, where n' becomes tangent and rounding decides)\n"
+        "  additive         n' = normalize(n - g)   (Perlin's rule, gradient negated)\n"
+        "  additive-perlin  n' = normalize(n + g)   (Perlin 1985 as published)\n"
+        "where n is the input normal (normalized first) and g = grad h at (x,y,z).\n"
+        "\n"
+        "Input:  a header naming x,y,z,nx,ny,nz (found by name as for `eval`: id first,\n"
+        "        other columns passed through), then one point and normal per line;\n"
+        "        or FILE.npy of shape (N, 6) (output FILE.npy: (N, 11), float32).\n"
+        "Output: header \"x,y,z,nx,ny,nz,height,px,py,pz,inward\": the input, h(p),\n"
+        "        the perturbed unit normal and inward = 1 where dot(n', n) <= 0.\n"
+        "        A zero or non-finite normal gives n' = (0,0,0) and inward = 1.\n"
+        "        Numbers are printed with %.9g (they read back to the same float).\n",
+    .opts = perturb_opts,
+    .more = "Input rules: as for `bumpgrad eval` (strict CSV; errors name FILE:LINE:COLUMN\n"
+            "and leave no output). Exit status: 0 success, 1 I/O failure, 2 bad input or\n"
+            "usage.\n"
+            "\n"
+            "Examples:\n"
+            "  bumpgrad perturb -i surface.csv -o bumped.csv\n"
+            "  bumpgrad perturb --method additive --amplitude 0.5 -i surface.csv -o add.csv\n"
+            "  printf 'x,y,z,nx,ny,nz\\n0.3,0.2,0.1,0,0,1\\n' | bumpgrad perturb -i - -o -\n",
+    .args_size = sizeof(perturb_args),
+    .defaults = perturb_defaults,
+};
 
 int cmd_perturb(int argc, char **argv)
 {
-    const char *cmd = "perturb", *in_path = NULL, *out_path = NULL, *v;
-    bg_perturb_method method = BG_PERTURB_SURFGRAD;
-    int allow_nonfinite = 0, threads = 0, rc;
-    long l;
-    bgt_height h;
-    bgt_height_init(&h);
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
-            perturb_help(stdout);
-            return CLI_OK;
-        } else if (strcmp(o, "-i") == 0 || strcmp(o, "--input") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &in_path)))
-                return rc;
-        } else if (strcmp(o, "-o") == 0 || strcmp(o, "--output") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &out_path)))
-                return rc;
-        } else if (strcmp(o, "--method") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if ((rc = cli_parse_method(cmd, o, v, &method)))
-                return rc;
-        } else if (strcmp(o, "--threads") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_int(cmd, o, v, 0, 1024, &l)))
-                return rc;
-            threads = (int)l;
-        } else if (strcmp(o, "--allow-nonfinite") == 0) {
-            allow_nonfinite = 1;
-        } else {
-            int r = cli_height_option(cmd, &h, argc, argv, &i);
-            if (r == CLI_USAGE)
-                return r;
-            if (r == 0)
-                return cli_usage_error(cmd, "unknown option \"%s\" (see bumpgrad perturb --help)",
-                                       o);
-        }
-    }
-    if (!in_path)
-        return cli_usage_error(cmd, "--input is required (\"-\" for standard input)");
-    if (!out_path)
-        return cli_usage_error(cmd, "--output is required (\"-\" for standard output)");
+    const char *cmd = "perturb";
+    perturb_args a;
+    int rc = cli_args_parse(&cli_spec_perturb, argc, argv, &a, NULL, NULL);
+    if (rc)
+        return rc == CLI_HELP ? CLI_OK : rc;
+    if (a.json && strcmp(a.output, "-") == 0)
+        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
     bgt_err herr;
-    bg_status hs = bgt_height_open(&h, &herr);
+    bg_status hs = bgt_height_open(&a.height, &herr);
     if (hs != BG_OK)
         return cli_report(cmd, hs, &herr);
-    if (threads == 0)
-        threads = bgt_threads_default();
+    if (a.threads == 0)
+        a.threads = bgt_threads_default();
 
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    bgt_perturb_opts opts = {.input = in_path, .output = out_path, .height = &h, .method = method,
-                             .threads = threads, .allow_nonfinite = allow_nonfinite,
-                             .progress = &sink};
+    bgt_points_stats stats = {0};
+    prog.rows = &stats.rows;
+    bgt_perturb_opts opts = {.input = a.input, .output = a.output, .height = &a.height,
+                             .method = (bg_perturb_method)a.method, .threads = a.threads,
+                             .allow_nonfinite = a.allow_nonfinite, .progress = &sink, .stats = &stats};
     bgt_err err;
-    rc = cli_report(cmd, bgt_perturb_run(&opts, &err), &err);
-    bgt_height_close(&h);
-    return rc;
+    double t0 = cli_now();
+    bg_status st = bgt_perturb_run(&opts, &err);
+    double dt = cli_now() - t0;
+    bgt_height_close(&a.height);
+    if (st != BG_OK)
+        return cli_report(cmd, st, &err);
+    const double *gb = stats.grid_box;
+    if (stats.grid && stats.rows > 0 && stats.in_grid == 0)
+        cli_warn(cmd, "none of the %zu points lies in the active region of %s (active voxel "
+                      "centres in [%g,%g,%g]..[%g,%g,%g]): the height is 0 there and every "
+                      "normal is unchanged",
+                 stats.rows, a.height.grid_path, gb[0], gb[1], gb[2], gb[3], gb[4], gb[5]);
+    else if (stats.grid)
+        cli_info(cmd, "%zu of %zu points inside the active box of %s", stats.in_grid, stats.rows,
+                 a.height.grid_path);
+    cli_info(cmd, "%zu rows in %.3f s, %zu inward (%s, %d threads)", stats.rows, dt,
+             stats.inward, bg_isa_name(bg_isa_active()), a.threads);
+    if (a.json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, cmd, dt);
+        cli_json_int(&j, "rows", (long long)stats.rows);
+        cli_json_num(&j, "rows_per_second", dt > 0 ? (double)stats.rows / dt : 0.0);
+        cli_json_int(&j, "inward", (long long)stats.inward);
+        cli_json_num(&j, "inward_fraction",
+                     stats.rows ? (double)stats.inward / (double)stats.rows : 0.0);
+        if (stats.grid) {
+            cli_json_int(&j, "in_grid", (long long)stats.in_grid);
+            cli_json_nums(&j, "grid_active_box", gb, 6);
+        }
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "input", a.input);
+        cli_json_str(&j, "output", a.output);
+        cli_json_str(&j, "method", cli_method_name((bg_perturb_method)a.method));
+        cli_json_int(&j, "threads", a.threads);
+        cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);
+        cli_json_height(&j, "height", &a.height);
+        cli_json_close(&j);
+        cli_json_end(&j);
+    }
+    return CLI_OK;
 }

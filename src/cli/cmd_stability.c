@@ -5,34 +5,59 @@
  * prints. */
 #include <stdio.h>
 #include <string.h>
+#include "args.h"
 #include "cli.h"
 #include "study/study_tool.h"
 
 static const char *const CMD = "stability";
 
-static void usage(FILE *fp)
+typedef struct stability_args {
+    const char *out_dir;
+    int samples, no_chart;
+} stability_args;
+
+static void stability_defaults(void *p)
 {
-    fprintf(fp,
-            "usage: bumpgrad stability [--out DIR] [--samples N] [--no-chart]\n"
-            "\n"
-            "Sweeps where bump-mapping methods fail and writes DIR/STABILITY.md (the report),\n"
-            "one CSV and one PNG chart per sweep (gnuplot), and DIR/summary.json:\n"
-            "  1. inward normals of additive vs surface gradient as the amplitude grows 0.1..10\n"
-            "  2. the float32 central-difference step U-curve and its optimum\n"
-            "  3. large coordinates 1e3..1e8: float vs double entry points\n"
-            "  4. turbulence creases: analytic vs central near octave zero crossings\n"
-            "  5. Listing 1 at grazing angles, as det -> 0, across silhouettes\n"
-            "  6. degenerate inputs (zero, NaN, Inf, non-unit normals, huge gradients)\n"
-            "\n"
-            "  --out DIR     output folder (default stability-output)\n"
-            "  --samples N   points per sweep (default 20000)\n"
-            "  --no-chart    skip gnuplot\n");
+    stability_args *a = p;
+    a->out_dir = "stability-output";
+    a->samples = 20000;
+    a->no_chart = 0;
 }
+
+#define A(m) offsetof(stability_args, m)
+static const cli_opt stability_opts[] = {
+    {.name = "out", .kind = CLI_KIND_STRING, .offset = A(out_dir), .metavar = "DIR",
+     .help = "output folder", .flags = CLI_DIR},
+    {.name = "samples", .kind = CLI_KIND_INT, .offset = A(samples), .metavar = "N",
+     .help = "points per sweep", .lo = 100, .hi = 10000000},
+    {.name = "no-chart", .kind = CLI_KIND_FLAG, .offset = A(no_chart), .help = "skip gnuplot"},
+    CLI_OPT_END,
+};
+#undef A
+
+const cli_spec cli_spec_stability = {
+    .name = "stability",
+    .summary = "sweeps where bump methods fail: markdown report, CSVs, charts",
+    .usage = "[--out DIR] [--samples N] [--no-chart]",
+    .about =
+        "Sweeps where bump-mapping methods fail and writes DIR/STABILITY.md (the report),\n"
+        "one CSV and one PNG chart per sweep (gnuplot), and DIR/summary.json:\n"
+        "  1. inward normals of additive vs surface gradient as the amplitude grows 0.1..10\n"
+        "  2. the float32 central-difference step U-curve and its optimum\n"
+        "  3. large coordinates 1e3..1e8: float vs double entry points\n"
+        "  4. turbulence creases: analytic vs central near octave zero crossings\n"
+        "  5. Listing 1 at grazing angles, as det -> 0, across silhouettes\n"
+        "  6. degenerate inputs (zero, NaN, Inf, non-unit normals, huge gradients)\n",
+    .opts = stability_opts,
+    .args_size = sizeof(stability_args),
+    .defaults = stability_defaults,
+};
 
 static void on_wrote(void *ctx, const char *path)
 {
     (void)ctx;
-    printf("wrote %s\n", path);
+    if (!cli_quiet())
+        printf("wrote %s\n", path);
 }
 
 static void on_gnuplot(void *ctx, const char *text)
@@ -43,37 +68,18 @@ static void on_gnuplot(void *ctx, const char *text)
 
 int cmd_stability(int argc, char **argv)
 {
-    const char *out_dir = "stability-output";
-    long samples = 20000;
-    int charts = 1;
-    for (int i = 1; i < argc; i++) {
-        const char *v;
-        int r;
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            usage(stdout);
-            return CLI_OK;
-        } else if (!strcmp(argv[i], "--out")) {
-            if ((r = cli_need_value(CMD, argc, argv, &i, &v)))
-                return r;
-            out_dir = v;
-        } else if (!strcmp(argv[i], "--samples")) {
-            if ((r = cli_need_value(CMD, argc, argv, &i, &v)) ||
-                (r = cli_parse_int(CMD, "--samples", v, 100, 10000000, &samples)))
-                return r;
-        } else if (!strcmp(argv[i], "--no-chart")) {
-            charts = 0;
-        } else {
-            return cli_usage_error(CMD, "unknown option '%s' (see bumpgrad stability --help)", argv[i]);
-        }
-    }
+    stability_args a;
+    int r = cli_args_parse(&cli_spec_stability, argc, argv, &a, NULL, NULL);
+    if (r)
+        return r == CLI_HELP ? CLI_OK : r;
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     bgt_study_report rep = {on_wrote, on_gnuplot, NULL};
-    bgt_stability_opts o = {.out_dir = out_dir, .samples = (size_t)samples, .chart = charts,
-                            .progress = &sink, .report = &rep};
+    bgt_stability_opts o = {.out_dir = a.out_dir, .samples = (size_t)a.samples,
+                            .chart = !a.no_chart, .progress = &sink, .report = &rep};
     bgt_err err;
     bg_status s = bgt_stability_run(&o, &err);
-    if (s == BG_OK)
-        printf("wrote %s/STABILITY.md and %s/summary.json\n", out_dir, out_dir);
+    if (s == BG_OK && !cli_quiet())
+        printf("wrote %s/STABILITY.md and %s/summary.json\n", a.out_dir, a.out_dir);
     return cli_report(CMD, s, &err);
 }

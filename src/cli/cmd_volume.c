@@ -5,51 +5,39 @@
  * bake (bgt_volume_run, src/tools/bake/volume.c) and prints its summary. */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
+#include "args.h"
 #include "bake/bake.h"
 #include "cli.h"
+#include "json.h"
 
 #define CMD "volume"
 
-static void volume_help(FILE *fp)
+typedef struct volume_args {
+    bgt_height height;
+    const char *output;
+    double bbox[6], voxel;
+    struct band_arg {
+        int have;
+        double v[5];
+    } band;
+    int threads, json;
+} volume_args;
+
+/* A first try without --bbox/--voxel-size bakes the unit cube [-1,1]^3 at 101^3
+ * voxels (about a million, a second or so): enough to look at, quick to write. */
+static void volume_defaults(void *p)
 {
-    fputs("Usage: bumpgrad volume --bbox X0,Y0,Z0,X1,Y1,Z1 --voxel-size S\n"
-          "                       [height options] [--band-sphere CX,CY,CZ,R,W]\n"
-          "                       --output FILE.vdb\n"
-          "\n"
-          "Bake the height h(p) and its gradient into an OpenVDB file: a FloatGrid\n"
-          "\"height\" and a Vec3SGrid \"gradient\" (world units, covariant). Voxel\n"
-          "(i,j,k) sits at world position S*(i,j,k); the baked voxels are those whose\n"
-          "centre lies in the box (inclusive). Read it back with --height-grid.\n"
-          "\n"
-          "Options:\n"
-          "  --bbox X0,Y0,Z0,X1,Y1,Z1  world box to bake, X0 <= X1 etc. (required)\n"
-          "  --voxel-size S            voxel edge in world units, > 0 (required)\n"
-          "  --band-sphere CX,CY,CZ,R,W\n"
-          "                            narrow band: only voxels whose centre is within\n"
-          "                            W of the sphere of centre C and radius R\n"
-          "                            (| |p - C| - R | <= W); others stay inactive\n"
-          "                            (background 0). Sample at least one voxel inside\n"
-          "                            the band's edge.\n"
-          "  -o, --output FILE.vdb     output (required); written to a temporary file\n"
-          "                            and renamed on success\n"
-          "  --threads N               worker threads (default: all cores)\n"
-          "  -h, --help                this help\n"
-          "\n",
-          fp);
-    cli_height_help(fp);
-    fputs("(--height-grid is not accepted here: volume bakes a function.)\n"
-          "\n"
-          "Prints the number of active voxels. Exit status: 0 success, 1 the output\n"
-          "cannot be written (or out of memory), 2 bad usage.\n"
-          "\n"
-          "Example:\n"
-          "  bumpgrad volume --function fbm --octaves 4 --bbox -1,-1,-1,1,1,1 \\\n"
-          "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n",
-          fp);
+    volume_args *a = p;
+    memset(a, 0, sizeof *a);
+    bgt_height_init(&a->height);
+    static const double box[6] = {-1, -1, -1, 1, 1, 1};
+    memcpy(a->bbox, box, sizeof box);
+    a->voxel = 0.02;
 }
 
-/* "a,b,c,..." with exactly n numbers. */
+/* "a,b,c,..." with exactly n finite numbers. */
 static int parse_list(const char *opt, const char *text, int n, double *out)
 {
     char buf[512];
@@ -67,8 +55,6 @@ static int parse_list(const char *opt, const char *text, int n, double *out)
                                    opt, n, text);
         if (cli_parse_double(CMD, opt, p, &out[count]))
             return CLI_USAGE;
-        if (!isfinite(out[count]))
-            return cli_usage_error(CMD, "%s: numbers must be finite, got \"%s\"", opt, text);
         count++;
         if (!comma)
             break;
@@ -80,72 +66,131 @@ static int parse_list(const char *opt, const char *text, int n, double *out)
     return 0;
 }
 
+static int parse_bbox(const char *cmd, const char *opt, char *text, void *field)
+{
+    (void)cmd;
+    return parse_list(opt, text, 6, field);
+}
+
+static int format_bbox(const void *field, char *buf, size_t len)
+{
+    const double *b = field;
+    snprintf(buf, len, "%g,%g,%g,%g,%g,%g", b[0], b[1], b[2], b[3], b[4], b[5]);
+    return 1;
+}
+
+static int parse_band(const char *cmd, const char *opt, char *text, void *field)
+{
+    struct band_arg *b = field;
+    if (parse_list(opt, text, 5, b->v))
+        return CLI_USAGE;
+    if (!(b->v[3] >= 0.0) || !(b->v[4] >= 0.0))
+        return cli_usage_error(cmd, "%s: radius and width must be >= 0, got \"%s\"", opt, text);
+    b->have = 1;
+    return 0;
+}
+
+#define A(m) offsetof(volume_args, m)
+static const cli_opt volume_opts[] = {
+    {.name = "bbox", .kind = CLI_KIND_CUSTOM, .offset = A(bbox), .metavar = "X0,Y0,Z0,X1,Y1,Z1",
+     .help = "world box to bake, X0 <= X1 etc.", .parse = parse_bbox, .format = format_bbox},
+    {.name = "voxel-size", .kind = CLI_KIND_DOUBLE, .offset = A(voxel), .metavar = "S",
+     .help = "voxel edge in world units, > 0", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "band-sphere", .kind = CLI_KIND_CUSTOM, .offset = A(band),
+     .metavar = "CX,CY,CZ,R,W",
+     .help = "narrow band: only voxels whose centre is within W of the sphere of centre C and "
+             "radius R (| |p - C| - R | <= W); others stay inactive (background 0). Sample at "
+             "least one voxel inside the band's edge.",
+     .parse = parse_band},
+    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = A(output),
+     .metavar = "FILE.vdb", .help = "output; written to a temporary file and renamed on success "
+                                    "(\"-\" is refused: OpenVDB writes files)",
+     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "vdb"},
+    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
+     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 4096},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print one JSON object of statistics on standard output instead of the summary "
+             "line (voxels, index box, time, ISA, every parameter)"},
+    CLI_OPT_INCLUDE(A(height), cli_height_opts, cli_height_heading),
+    CLI_OPT_END,
+};
+#undef A
+
+const cli_spec cli_spec_volume = {
+    .name = "volume",
+    .summary = "bake a height function and its gradient into an OpenVDB file",
+    .usage = "[--bbox X0,Y0,Z0,X1,Y1,Z1] [--voxel-size S] [height options]\n"
+             "[--band-sphere CX,CY,CZ,R,W] --output FILE.vdb",
+    .about = "Bake the height h(p) and its gradient into an OpenVDB file: a FloatGrid\n"
+             "\"height\" and a Vec3SGrid \"gradient\" (world units, covariant). Voxel\n"
+             "(i,j,k) sits at world position S*(i,j,k); the baked voxels are those whose\n"
+             "centre lies in the box (inclusive). Read it back with --height-grid.\n"
+             "Without --bbox and --voxel-size, the unit cube [-1,1]^3 is baked at 0.02\n"
+             "(101^3 voxels).\n",
+    .opts = volume_opts,
+    .more = "(--height-grid is not accepted here: volume bakes a function.)\n"
+            "\n"
+            "Prints the number of active voxels (a warning on stderr if none). Exit status:\n"
+            "0 success, 1 the output cannot be written (or out of memory), 2 bad usage.\n"
+            "\n"
+            "Example:\n"
+            "  bumpgrad volume --function fbm --octaves 4 --bbox -1,-1,-1,1,1,1 \\\n"
+            "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n",
+    .args_size = sizeof(volume_args),
+    .defaults = volume_defaults,
+};
+
 int cmd_volume(int argc, char **argv)
 {
-    bgt_height height;
-    bgt_height_init(&height);
-    const char *out_path = NULL;
-    double bbox[6] = {0}, voxel = 0.0, band[5] = {0};
-    int have_bbox = 0, have_band = 0;
-    long threads = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i], *v;
-        int rc = cli_height_option(CMD, &height, argc, argv, &i);
-        if (rc == 1)
-            continue;
-        if (rc != 0)
-            return rc;
-        if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
-            volume_help(stdout);
-            return CLI_OK;
-        } else if (strcmp(o, "--bbox") == 0) {
-            if (cli_need_value(CMD, argc, argv, &i, &v) || parse_list(o, v, 6, bbox))
-                return CLI_USAGE;
-            have_bbox = 1;
-        } else if (strcmp(o, "--voxel-size") == 0) {
-            if (cli_need_value(CMD, argc, argv, &i, &v) || cli_parse_double(CMD, o, v, &voxel))
-                return CLI_USAGE;
-            if (!(voxel > 0.0 && isfinite(voxel)))
-                return cli_usage_error(CMD, "--voxel-size: must be finite and > 0, got \"%s\"", v);
-        } else if (strcmp(o, "--band-sphere") == 0) {
-            if (cli_need_value(CMD, argc, argv, &i, &v) || parse_list(o, v, 5, band))
-                return CLI_USAGE;
-            if (!(band[3] >= 0.0) || !(band[4] >= 0.0))
-                return cli_usage_error(CMD, "--band-sphere: radius and width must be >= 0, got "
-                                            "\"%s\"", v);
-            have_band = 1;
-        } else if (strcmp(o, "-o") == 0 || strcmp(o, "--output") == 0) {
-            if (cli_need_value(CMD, argc, argv, &i, &out_path))
-                return CLI_USAGE;
-        } else if (strcmp(o, "--threads") == 0) {
-            if (cli_need_value(CMD, argc, argv, &i, &v) ||
-                cli_parse_int(CMD, o, v, 1, 4096, &threads))
-                return CLI_USAGE;
-        } else {
-            return cli_usage_error(CMD, "unknown argument \"%s\" (see bumpgrad volume --help)", o);
-        }
-    }
-    if (!have_bbox)
-        return cli_usage_error(CMD, "--bbox is required");
-    if (voxel == 0.0)
-        return cli_usage_error(CMD, "--voxel-size is required");
-    if (!out_path)
-        return cli_usage_error(CMD, "--output is required");
+    volume_args a;
+    int rc = cli_args_parse(&cli_spec_volume, argc, argv, &a, NULL, NULL);
+    if (rc)
+        return rc == CLI_HELP ? CLI_OK : rc;
+    if (strcmp(a.output, "-") == 0)
+        return cli_usage_error(CMD, "--output -: OpenVDB writes files, not streams; give a "
+                                    "FILE.vdb");
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    bgt_volume_opts opts = {.height = &height, .output = out_path, .voxel = voxel,
-                            .have_band = have_band, .threads = (int)threads, .progress = &sink};
-    memcpy(opts.bbox, bbox, sizeof bbox);
-    if (have_band)
-        memcpy(opts.band, band, sizeof band);
+    bgt_volume_opts opts = {.height = &a.height, .output = a.output, .voxel = a.voxel,
+                            .have_band = a.band.have, .threads = a.threads, .progress = &sink};
+    memcpy(opts.bbox, a.bbox, sizeof a.bbox);
+    if (a.band.have)
+        memcpy(opts.band, a.band.v, sizeof a.band.v);
     bgt_volume_result r;
     bgt_err err;
+    double t0 = cli_now();
     bg_status st = bgt_volume_run(&opts, &r, &err);
+    double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(CMD, st, &err);
-    printf("%s: %llu active voxels (height + gradient), voxel size %g, index box "
-           "[%lld,%lld,%lld]..[%lld,%lld,%lld]\n",
-           out_path, (unsigned long long)r.voxels, voxel, r.lo[0], r.lo[1], r.lo[2], r.hi[0],
-           r.hi[1], r.hi[2]);
+    if (r.voxels == 0)
+        cli_warn(CMD, "no voxel was baked: no voxel centre lies in the box%s",
+                 a.band.have ? " and the band (check --band-sphere against --bbox and "
+                               "--voxel-size)"
+                             : " (--voxel-size larger than --bbox?)");
+    if (a.json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, CMD, dt);
+        cli_json_int(&j, "active_voxels", (long long)r.voxels);
+        double lo[3] = {(double)r.lo[0], (double)r.lo[1], (double)r.lo[2]};
+        double hi[3] = {(double)r.hi[0], (double)r.hi[1], (double)r.hi[2]};
+        cli_json_nums(&j, "index_min", lo, 3);
+        cli_json_nums(&j, "index_max", hi, 3);
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "output", a.output);
+        cli_json_nums(&j, "bbox", a.bbox, 6);
+        cli_json_num(&j, "voxel_size", a.voxel);
+        if (a.band.have)
+            cli_json_nums(&j, "band_sphere", a.band.v, 5);
+        cli_json_int(&j, "threads", a.threads);
+        cli_json_height(&j, "height", &a.height);
+        cli_json_close(&j);
+        cli_json_end(&j);
+    } else if (!cli_quiet())
+        printf("%s: %llu active voxels (height + gradient), voxel size %g, index box "
+               "[%lld,%lld,%lld]..[%lld,%lld,%lld]\n",
+               a.output, (unsigned long long)r.voxels, a.voxel, r.lo[0], r.lo[1], r.lo[2],
+               r.hi[0], r.hi[1], r.hi[2]);
     return CLI_OK;
 }

@@ -1,22 +1,29 @@
 /* SPDX-License-Identifier: MIT */
 /* The height-function options shared by every command that bumps a surface,
- * parsed into a bg_height so each command evaluates exactly what the library's
- * fused kernel evaluates: h(p) = A F(f p), grad h = (A f) F'(f p). */
-#include "cli.h"
+ * as one table fragment (cli_height_opts, see args.h), parsed into a
+ * bgt_height so each command evaluates exactly what the library's fused
+ * kernel evaluates: h(p) = A F(f p), grad h = (A f) F'(f p).
+ * cli_height_option / cli_height_help serve the commands still parsed by
+ * hand (render, mesh) from the same table. */
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
+#include "cli.h"
+#include "json.h"
 
-static int parse_gradient(const char *cmd, const char *text, bg_gradient_mode *out)
-{
-    if (strcmp(text, "analytic") == 0)
-        *out = BG_GRADIENT_ANALYTIC;
-    else if (strcmp(text, "central") == 0)
-        *out = BG_GRADIENT_CENTRAL;
-    else
-        return cli_usage_error(cmd, "--gradient: expected analytic or central, got \"%s\"", text);
-    return 0;
-}
+/* Choice fields are stored as int. */
+_Static_assert(sizeof(bg_function) == sizeof(int), "bg_function is stored as int");
+_Static_assert(sizeof(bg_gradient_mode) == sizeof(int), "bg_gradient_mode is stored as int");
+_Static_assert(sizeof(bg_perturb_method) == sizeof(int), "bg_perturb_method is stored as int");
+
+const char *const cli_function_choices[] = {"noise", "fbm", "turbulence", NULL};
+const int cli_function_values[] = {BG_FUNC_NOISE, BG_FUNC_FBM, BG_FUNC_TURBULENCE};
+const char *const cli_method_choices[] = {"surfgrad", "additive", "additive-perlin", NULL};
+const int cli_method_values[] = {BG_PERTURB_SURFGRAD, BG_PERTURB_ADDITIVE,
+                                 BG_PERTURB_ADDITIVE_PERLIN};
+static const char *const gradient_choices[] = {"analytic", "central", NULL};
+static const int gradient_values[] = {BG_GRADIENT_ANALYTIC, BG_GRADIENT_CENTRAL};
 
 /* "FILE.vdb:GRID" names a grid inside the file; the split is taken only after a
  * ".vdb" so that a path which itself contains ':' still works without a grid name.
@@ -37,98 +44,145 @@ static void split_grid(char *text, const char **path, const char **name)
     }
 }
 
+static int parse_grid(const char *cmd, const char *opt, char *text, void *field)
+{
+    bgt_height *h = field;
+    if (!*text)
+        return cli_usage_error(cmd, "%s: empty file name", opt);
+    split_grid(text, &h->grid_path, &h->grid_name);
+    return 0;
+}
+
+static int format_step(const void *field, char *buf, size_t len)
+{
+    float s = *(const float *)field;
+    if (s == 0)
+        snprintf(buf, len, "0 = %g", (double)BG_DEFAULT_CENTRAL_STEP);
+    else
+        snprintf(buf, len, "%g", (double)s);
+    return 1;
+}
+
+static int parse_step(const char *cmd, const char *opt, char *text, void *field)
+{
+    float f;
+    if (cli_parse_float(cmd, opt, text, &f))
+        return CLI_USAGE;
+    if (!(f >= 0))
+        return cli_usage_error(cmd, "%s: must be >= 0 (0 = default %g), got \"%s\"", opt,
+                               (double)BG_DEFAULT_CENTRAL_STEP, text);
+    *(float *)field = f;
+    return 0;
+}
+
+#define CLI_STR_(x) #x
+#define CLI_STR(x) CLI_STR_(x)
+#define FR(m) offsetof(bg_fractal, m)
+const cli_opt cli_fractal_opts[] = {
+    {.name = "function", .kind = CLI_KIND_CHOICE, .offset = FR(function), .metavar = "NAME",
+     .help = "noise, fbm or turbulence", .choices = cli_function_choices,
+     .choice_values = cli_function_values},
+    {.name = "octaves", .kind = CLI_KIND_INT, .offset = FR(octaves), .metavar = "N",
+     .help = "octaves of fbm/turbulence, 1.." CLI_STR(BG_MAX_OCTAVES), .lo = 1, .hi = BG_MAX_OCTAVES},
+    {.name = "lacunarity", .kind = CLI_KIND_FLOAT, .offset = FR(lacunarity), .metavar = "L",
+     .help = "frequency ratio between octaves, > 0", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "gain", .kind = CLI_KIND_FLOAT, .offset = FR(gain), .metavar = "G",
+     .help = "amplitude ratio between octaves"},
+    CLI_OPT_END,
+};
+#undef FR
+
+#define HO(m) offsetof(bgt_height, m)
+const cli_opt cli_height_opts[] = {
+    CLI_OPT_INCLUDE(HO(h.fractal), cli_fractal_opts, NULL),
+    {.name = "amplitude", .kind = CLI_KIND_FLOAT, .offset = HO(h.amplitude), .metavar = "A",
+     .help = "height scale A (negative flips bumps)"},
+    {.name = "frequency", .kind = CLI_KIND_FLOAT, .offset = HO(h.frequency), .metavar = "F",
+     .help = "spatial frequency f, > 0", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "gradient", .kind = CLI_KIND_CHOICE, .offset = HO(h.gradient), .metavar = "MODE",
+     .help = "analytic gradient or central differences", .choices = gradient_choices,
+     .choice_values = gradient_values},
+    {.name = "step", .kind = CLI_KIND_CUSTOM, .offset = HO(h.step), .metavar = "H",
+     .help = "central-difference step in noise space, >= 0", .parse = parse_step,
+     .format = format_step},
+    {.name = "height-grid", .kind = CLI_KIND_CUSTOM, .offset = 0, .metavar = "FILE.vdb[:GRID]",
+     .help = "use a VDB FloatGrid as the height (tools build only); with a band, points "
+             "outside the grid's active region are counted and reported",
+     .parse = parse_grid, .flags = CLI_FILE, .complete_ext = "vdb"},
+    CLI_OPT_END,
+};
+#undef HO
+const char cli_height_heading[] = "Height function h(p) = A * F(f * p):";
+
+/* ---- for the commands still parsed by hand (render, mesh) ---- */
+
+static const cli_spec height_spec = {.name = "height", .opts = cli_height_opts};
+
 int cli_height_option(const char *cmd, bgt_height *h, int argc, char **argv, int *i)
 {
-    const char *o = argv[*i], *v;
-    float f;
-    long l;
-    int rc;
-#define VALUE()                                                                                    \
-    do {                                                                                           \
-        if ((rc = cli_need_value(cmd, argc, argv, i, &v)))                                         \
-            return rc;                                                                             \
-    } while (0)
-    if (strcmp(o, "--function") == 0) {
-        VALUE();
-        /* Only the kind changes: --octaves given earlier must survive. */
-        return cli_parse_function(cmd, "--function", v, &h->h.fractal.function) ? CLI_USAGE : 1;
+    const char *o = argv[*i];
+    if (o[0] != '-' || o[1] != '-')
+        return 0;
+    /* Find it through the parser on a two- or one-word argv. */
+    const char *name = o + 2;
+    const char *eq = strchr(name, '=');
+    size_t len = eq ? (size_t)(eq - name) : strlen(name);
+    const cli_opt *t = NULL;
+    /* flatten the one level of INCLUDE */
+    for (const cli_opt *p = cli_height_opts; p->kind != CLI_KIND_END && !t; p++) {
+        if (p->kind == CLI_KIND_INCLUDE) {
+            for (const cli_opt *q = p->sub; q->kind != CLI_KIND_END; q++)
+                if (strlen(q->name) == len && strncmp(q->name, name, len) == 0)
+                    t = q;
+        } else if (strlen(p->name) == len && strncmp(p->name, name, len) == 0) {
+            t = p;
+        }
     }
-    if (strcmp(o, "--octaves") == 0) {
-        VALUE();
-        if (cli_parse_int(cmd, o, v, 1, BG_MAX_OCTAVES, &l))
-            return CLI_USAGE;
-        h->h.fractal.octaves = (int)l;
-        return 1;
+    if (!t)
+        return 0;
+    char *sub_argv[3] = {(char *)cmd, argv[*i], NULL};
+    int sub_argc = 2;
+    if (!eq) {
+        if (*i + 1 >= argc)
+            return cli_usage_error(cmd, "%s needs a value", o);
+        sub_argv[2] = argv[*i + 1];
+        sub_argc = 3;
     }
-    if (strcmp(o, "--lacunarity") == 0) {
-        VALUE();
-        if (cli_parse_float(cmd, o, v, &f))
-            return CLI_USAGE;
-        if (!(f > 0))
-            return cli_usage_error(cmd, "%s: must be > 0, got \"%s\"", o, v);
-        h->h.fractal.lacunarity = f;
-        return 1;
-    }
-    if (strcmp(o, "--gain") == 0) {
-        VALUE();
-        if (cli_parse_float(cmd, o, v, &h->h.fractal.gain))
-            return CLI_USAGE;
-        return 1;
-    }
-    if (strcmp(o, "--amplitude") == 0) {
-        VALUE();
-        if (cli_parse_float(cmd, o, v, &h->h.amplitude))
-            return CLI_USAGE;
-        return 1;
-    }
-    if (strcmp(o, "--frequency") == 0) {
-        VALUE();
-        if (cli_parse_float(cmd, o, v, &f))
-            return CLI_USAGE;
-        if (!(f > 0))
-            return cli_usage_error(cmd, "%s: must be > 0, got \"%s\"", o, v);
-        h->h.frequency = f;
-        return 1;
-    }
-    if (strcmp(o, "--gradient") == 0) {
-        VALUE();
-        return parse_gradient(cmd, v, &h->h.gradient) ? CLI_USAGE : 1;
-    }
-    if (strcmp(o, "--step") == 0) {
-        VALUE();
-        if (cli_parse_float(cmd, o, v, &f))
-            return CLI_USAGE;
-        if (!(f >= 0))
-            return cli_usage_error(cmd, "%s: must be >= 0 (0 = default %g), got \"%s\"", o,
-                                   (double)BG_DEFAULT_CENTRAL_STEP, v);
-        h->h.step = f;
-        return 1;
-    }
-    if (strcmp(o, "--height-grid") == 0) {
-        VALUE();
-        if (!*v)
-            return cli_usage_error(cmd, "--height-grid: empty file name");
-        split_grid(argv[*i], &h->grid_path, &h->grid_name);
-        return 1;
-    }
-#undef VALUE
-    return 0;
+    cli_spec spec = height_spec;
+    spec.name = cmd;
+    /* No defaults function: the parse writes into *h as it is. */
+    int rc = cli_args_parse(&spec, sub_argc, sub_argv, h, NULL, NULL);
+    if (rc)
+        return CLI_USAGE;
+    *i += sub_argc - 2;
+    return 1;
 }
 
 void cli_height_help(FILE *fp)
 {
-    fprintf(fp,
-            "Height function h(p) = A * F(f * p):\n"
-            "  --function NAME     noise, fbm or turbulence (default turbulence)\n"
-            "  --octaves N         octaves of fbm/turbulence, 1..%d (default %d)\n"
-            "  --lacunarity L      frequency ratio between octaves, > 0 (default 2)\n"
-            "  --gain G            amplitude ratio between octaves (default 0.5)\n"
-            "  --amplitude A       height scale A (default 0.1; negative flips bumps)\n"
-            "  --frequency F       spatial frequency f, > 0 (default 1)\n"
-            "  --gradient MODE     analytic (default) or central differences\n"
-            "  --step H            central-difference step in noise space (0 = %g)\n"
-            "  --height-grid FILE.vdb[:GRID]\n"
-            "                      use a VDB FloatGrid as the height (tools build only)\n",
-            BG_MAX_OCTAVES, BG_DEFAULT_OCTAVES, (double)BG_DEFAULT_CENTRAL_STEP);
+    /* The same generated block as the converted commands show. */
+    static const cli_opt wrapped[] = {CLI_OPT_INCLUDE(0, cli_height_opts, cli_height_heading),
+                                      CLI_OPT_END};
+    bgt_height d;
+    bgt_height_init(&d);
+    cli_args_help_opts(fp, wrapped, &d);
 }
 
+void cli_json_height(cli_json *j, const char *key, const bgt_height *h)
+{
+    cli_json_object(j, key);
+    if (h->grid_path) {
+        cli_json_str(j, "grid_path", h->grid_path);
+        cli_json_str(j, "grid_name", h->grid_name);
+    } else {
+        cli_json_str(j, "function", cli_function_name(h->h.fractal.function));
+        cli_json_int(j, "octaves", h->h.fractal.octaves);
+        cli_json_float(j, "lacunarity", h->h.fractal.lacunarity);
+        cli_json_float(j, "gain", h->h.fractal.gain);
+        cli_json_float(j, "amplitude", h->h.amplitude);
+        cli_json_float(j, "frequency", h->h.frequency);
+        cli_json_str(j, "gradient", h->h.gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic");
+        cli_json_float(j, "step", h->h.step != 0 ? h->h.step : BG_DEFAULT_CENTRAL_STEP);
+    }
+    cli_json_close(j);
+}

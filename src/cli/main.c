@@ -4,31 +4,40 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
 #include "cli.h"
 
 /* The subcommand table, in the order `bumpgrad --help` lists them.
  * To add a command: declare cmd_<name> in cli.h, add cmd_<name>.c to
  * src/cli/meson.build (cli_tool_sources if it needs the I/O shim), and add one
  * line in the matching block here. */
+static const char *const bench_own[] = {"--isa", NULL};
+#if BG_HAVE_TOOLS
+static const char *const mesh_own[] = {"--quiet", NULL};
+#endif
 static const cli_command commands[] = {
-    {"eval", "noise / fBm / turbulence value and gradient at points from a CSV table", cmd_eval},
+    {"eval", "noise / fBm / turbulence value and gradient at points from a CSV table", cmd_eval,
+     &cli_spec_eval, NULL},
     {"perturb", "bump surface normals from a CSV table (surface gradient or additive)",
-     cmd_perturb},
+     cmd_perturb, &cli_spec_perturb, NULL},
     /* Core commands without the I/O shim (bench, accuracy, stability) go here. */
-    {"bench", "throughput of every kernel and ISA, 1 and N threads, against peer libraries", cmd_bench},
+    {"bench", "throughput of every kernel and ISA, 1 and N threads, against peer libraries", cmd_bench,
+     NULL, bench_own},
     {"accuracy", "speed against accuracy of every gradient method: CSV and a log-log chart",
-     cmd_accuracy},
-    {"stability", "sweeps where bump methods fail: markdown report, CSVs, charts", cmd_stability},
+     cmd_accuracy, &cli_spec_accuracy, NULL},
+    {"stability", "sweeps where bump methods fail: markdown report, CSVs, charts", cmd_stability,
+     &cli_spec_stability, NULL},
 #if BG_HAVE_TOOLS
     /* Commands that need OpenImageIO / OpenVDB / assimp (render, mesh, volume, ...)
      * go here. */
-    {"volume", "bake a height function and its gradient into an OpenVDB file", cmd_volume},
+    {"volume", "bake a height function and its gradient into an OpenVDB file", cmd_volume,
+     &cli_spec_volume, NULL},
     {"heightmap", "image -> tangent-space normal map (seed method); normal map -> derivative map",
-     cmd_heightmap},
+     cmd_heightmap, &cli_spec_heightmap, NULL},
     {"render", "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
-     cmd_render},
+     cmd_render, NULL, NULL},
     {"mesh", "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a normal map",
-     cmd_mesh},
+     cmd_mesh, NULL, mesh_own},
 #endif
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
@@ -43,7 +52,7 @@ static const cli_command *find_command(const char *name)
 
 static void main_help(FILE *fp)
 {
-    fputs("Usage: bumpgrad [--isa NAME] COMMAND [options]\n"
+    fputs("Usage: bumpgrad [global options] COMMAND [options]\n"
           "       bumpgrad help COMMAND | --help | --version\n"
           "\n"
           "Procedural bump mapping on the CPU: Perlin noise gradients and the surface\n"
@@ -54,15 +63,25 @@ static void main_help(FILE *fp)
     for (size_t i = 0; i < n_commands; i++)
         fprintf(fp, "  %-12s %s\n", commands[i].name, commands[i].summary);
     fputs("\n"
-          "Global options (before COMMAND):\n"
+          "Global options (anywhere on the command line, before a `--`):\n"
           "  --isa NAME    run the SIMD kernels at ISA level NAME (scalar, sse2, avx2,\n"
           "                avx512, neon) or lower-than-best; every level gives the same\n"
           "                bits. Overrides the BUMPGRAD_ISA environment variable.\n"
+          "                (After `bench`, --isa is bench's own option.)\n"
+          "  -q, --quiet   only errors (and warnings) on stderr; no progress, no summary\n"
+          "  --progress    progress on stderr even when it is not a terminal (one line a\n"
+          "                second, then a final line with the rate)\n"
+          "  -v, --verbose more detail on stderr (final rate and time of long steps)\n"
           "  --version     print the version and the active and best ISA levels\n"
           "  -h, --help    this help; `bumpgrad COMMAND --help` for a command\n"
+          "Options take their value as `--opt value` or `--opt=value`; `--` ends them.\n"
+          "`bumpgrad completion bash|zsh` prints a completion script, `bumpgrad man\n"
+          "[COMMAND]` a man page.\n"
           "\n"
           "Environment:\n"
           "  BUMPGRAD_ISA  same as --isa; an unknown or unsupported level is an error\n"
+          "  BUMPGRAD_NO_PROGRESS  if set (to anything), no progress line on a terminal\n"
+          "                either; --progress still forces it\n"
           "\n"
           "Exit status: 0 success, 1 runtime failure (I/O, memory), 2 bad input or usage.\n",
           fp);
@@ -152,20 +171,158 @@ static int unknown_command(const char *name)
     return cli_usage_error(NULL, "unknown command \"%s\" (see bumpgrad --help)", name);
 }
 
+/* 1 if argv[*i] is a global option (consumed with its value; *isa set for
+ * --isa), 0 if not, CLI_USAGE if --isa lacks its value. */
+static int global_option(int argc, char **argv, int *i, const char **isa)
+{
+    const char *o = argv[*i];
+    if (strcmp(o, "--isa") == 0) {
+        if (*i + 1 >= argc)
+            return cli_usage_error(NULL, "--isa needs a value (scalar, sse2, avx2, avx512, neon)");
+        *isa = argv[++*i];
+    } else if (strncmp(o, "--isa=", 6) == 0) {
+        *isa = o + 6;
+    } else if (strcmp(o, "-q") == 0 || strcmp(o, "--quiet") == 0) {
+        cli_global.quiet = 1;
+    } else if (strcmp(o, "--progress") == 0) {
+        cli_global.progress = 1;
+    } else if (strcmp(o, "-v") == 0 || strcmp(o, "--verbose") == 0) {
+        cli_global.verbose = 1;
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+static int owns(const cli_command *c, const char *arg)
+{
+    if (!c->own)
+        return 0;
+    for (size_t k = 0; c->own[k]; k++) {
+        size_t n = strlen(c->own[k]);
+        if (strncmp(arg, c->own[k], n) == 0 && (arg[n] == '\0' || arg[n] == '='))
+            return 1;
+    }
+    return 0;
+}
+
+/* The command's argv without the global options; for a command still parsed by
+ * hand, "--name=value" becomes "--name" "value". Up to `--`, after which every
+ * argument is left as it is. Returns the new argc; out has room for 2 * argc + 2. */
+static int command_argv(const cli_command *c, int argc, char **argv, char **out,
+                        const char **isa, int *rc)
+{
+    int n = 0, done = 0, quiet_passed = 0;
+    out[n++] = argv[0];
+    for (int i = 1; i < argc; i++) {
+        char *a = argv[i];
+        if (done || a[0] != '-') {
+            out[n++] = a;
+            continue;
+        }
+        if (strcmp(a, "--") == 0) {
+            done = 1;
+            out[n++] = a;
+            continue;
+        }
+        if (owns(c, a)) {
+            quiet_passed |= strcmp(a, "--quiet") == 0;
+            if (strcmp(a, "--quiet") == 0)
+                cli_global.quiet = 1;
+        } else {
+            int g = global_option(argc, argv, &i, isa);
+            if (g == CLI_USAGE) {
+                *rc = g;
+                return 0;
+            }
+            if (g)
+                continue;
+        }
+        char *eq = a[1] == '-' ? strchr(a, '=') : NULL;
+        if (!c->spec && eq) {
+            *eq = '\0';
+            out[n++] = a;
+            out[n++] = eq + 1;
+            continue;
+        }
+        out[n++] = a;
+    }
+    /* mesh's own --quiet, when -q was given instead */
+    if (cli_global.quiet && !quiet_passed && owns(c, "--quiet") && !done)
+        out[n++] = (char *)"--quiet";
+    out[n] = NULL;
+    return n;
+}
+
+static const char *const global_opt_words[] = {"--isa", "-q", "--quiet", "--progress", "-v",
+                                               "--verbose", NULL};
+
+static int completion(const char *shell)
+{
+    const cli_spec *specs[sizeof commands / sizeof commands[0]];
+    const char *names[sizeof commands / sizeof commands[0]];
+    size_t ns = 0;
+    for (size_t k = 0; k < n_commands; k++) {
+        names[k] = commands[k].name;
+        if (commands[k].spec)
+            specs[ns++] = commands[k].spec;
+    }
+    if (shell && strcmp(shell, "bash") == 0)
+        cli_args_completion_bash(stdout, specs, ns, names, n_commands, global_opt_words);
+    else if (shell && strcmp(shell, "zsh") == 0)
+        cli_args_completion_zsh(stdout, specs, ns, names, n_commands, global_opt_words);
+    else
+        return cli_usage_error(NULL, "completion: expected bash or zsh, got \"%s\"",
+                               shell ? shell : "");
+    return CLI_OK;
+}
+
+static void main_man(FILE *fp)
+{
+    fprintf(fp, ".TH BUMPGRAD 1 \"\" \"bumpgrad %s\" \"User Commands\"\n"
+                ".SH NAME\nbumpgrad \\- procedural bump mapping on the CPU\n"
+                ".SH SYNOPSIS\n.B bumpgrad\n[global options] COMMAND [options]\n"
+                ".SH DESCRIPTION\n.nf\n",
+            bg_version_string());
+    main_help(fp);
+    fputs(".fi\n.SH SEE ALSO\n", fp);
+    int first = 1;
+    for (size_t k = 0; k < n_commands; k++)
+        if (commands[k].spec) {
+            fprintf(fp, "%s.BR bumpgrad\\-%s (1)", first ? "" : ",\n", commands[k].name);
+            first = 0;
+        }
+    fputc('\n', fp);
+}
+
+static int man(const char *name)
+{
+    if (!name) {
+        main_man(stdout);
+        return CLI_OK;
+    }
+    const cli_command *c = find_command(name);
+    if (!c)
+        return unknown_command(name);
+    if (!c->spec)
+        return cli_usage_error(NULL, "man: %s has no generated page yet (see bumpgrad %s --help)",
+                               name, name);
+    cli_args_man(c->spec, stdout, bg_version_string());
+    return CLI_OK;
+}
+
 static int dispatch(int argc, char **argv)
 {
     const char *isa_arg = NULL;
-    int want_version = 0, want_help = 0, i = 1;
+    int want_version = 0, want_help = 0, i = 1, rc;
     for (; i < argc && argv[i][0] == '-'; i++) {
         const char *o = argv[i];
-        if (strcmp(o, "--isa") == 0) {
-            if (i + 1 >= argc)
-                return cli_usage_error(NULL,
-                                       "--isa needs a value (scalar, sse2, avx2, avx512, neon)");
-            isa_arg = argv[++i];
-        } else if (strncmp(o, "--isa=", 6) == 0) {
-            isa_arg = o + 6;
-        } else if (strcmp(o, "--version") == 0 || strcmp(o, "-V") == 0) {
+        int g = global_option(argc, argv, &i, &isa_arg);
+        if (g == CLI_USAGE)
+            return g;
+        if (g)
+            continue;
+        if (strcmp(o, "--version") == 0 || strcmp(o, "-V") == 0) {
             want_version = 1;
         } else if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0) {
             want_help = 1;
@@ -175,16 +332,44 @@ static int dispatch(int argc, char **argv)
         }
     }
 
+    const cli_command *c = NULL;
+    char **cargv = NULL;
+    int cargc = 0;
+    if (!want_help && !want_version && i < argc && strcmp(argv[i], "help") != 0) {
+        if (strcmp(argv[i], "completion") == 0)
+            return completion(i + 1 < argc ? argv[i + 1] : NULL);
+        if (strcmp(argv[i], "man") == 0)
+            return man(i + 1 < argc ? argv[i + 1] : NULL);
+        c = find_command(argv[i]);
+        if (!c)
+            return unknown_command(argv[i]);
+        cargv = malloc(sizeof *cargv * (2 * (size_t)(argc - i) + 2));
+        if (!cargv)
+            return cli_fail(NULL, "out of memory");
+        rc = 0;
+        cargc = command_argv(c, argc - i, argv + i, cargv, &isa_arg, &rc);
+        if (rc) {
+            free(cargv);
+            return rc;
+        }
+    }
+
     /* The library would silently ignore a bad BUMPGRAD_ISA; the command refuses it
      * so a benchmark or test never runs at a level other than the one asked for. */
-    int rc;
     if (isa_arg) {
-        if ((rc = apply_isa("--isa", isa_arg)))
-            return rc;
+        rc = apply_isa("--isa", isa_arg);
     } else {
         const char *env = getenv("BUMPGRAD_ISA");
-        if (env && *env && (rc = apply_isa("BUMPGRAD_ISA", env)))
-            return rc;
+        rc = env && *env ? apply_isa("BUMPGRAD_ISA", env) : 0;
+    }
+    if (rc) {
+        free(cargv);
+        return rc;
+    }
+    if (c) {
+        rc = c->run(cargc, cargv);
+        free(cargv);
+        return rc;
     }
 
     if (want_help) {
@@ -200,23 +385,20 @@ static int dispatch(int argc, char **argv)
         main_help(stderr);
         return CLI_USAGE;
     }
-
-    const char *name = argv[i];
-    if (strcmp(name, "help") == 0) {
-        if (i + 1 >= argc) {
-            main_help(stdout);
-            return CLI_OK;
-        }
-        const cli_command *c = find_command(argv[i + 1]);
-        if (!c)
-            return unknown_command(argv[i + 1]);
-        char *help_argv[] = {(char *)c->name, (char *)"--help", NULL};
-        return c->run(2, help_argv);
+    /* `help [COMMAND]` */
+    if (i + 1 >= argc) {
+        main_help(stdout);
+        return CLI_OK;
     }
-    const cli_command *c = find_command(name);
+    c = find_command(argv[i + 1]);
     if (!c)
-        return unknown_command(name);
-    return c->run(argc - i, argv + i);
+        return unknown_command(argv[i + 1]);
+    if (c->spec) {
+        cli_args_help(c->spec, stdout);
+        return CLI_OK;
+    }
+    char *help_argv[] = {(char *)c->name, (char *)"--help", NULL};
+    return c->run(2, help_argv);
 }
 
 int main(int argc, char **argv)

@@ -5,6 +5,7 @@
  * but wrong picture rather than a failure. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
+#include "json.h"
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>
@@ -107,27 +108,76 @@ int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **
     return 0;
 }
 
-/* ---- progress ------------------------------------------------------------ */
+/* ---- global options and progress ------------------------------------------ */
 
-static double now_seconds(void)
+cli_globals cli_global = {0};
+
+int cli_quiet(void) { return cli_global.quiet; }
+int cli_verbose(void) { return cli_global.verbose && !cli_global.quiet; }
+
+void cli_warn(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "bumpgrad %s: warning: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+void cli_info(const char *cmd, const char *fmt, ...)
+{
+    if (!cli_verbose())
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "bumpgrad %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+double cli_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-void cli_progress_begin(cli_progress *p, const char *label, size_t total)
+/* What the tools count, by the label they report: the unit of the rate. */
+static const char *unit_of(const char *label)
 {
-    p->label = label;
-    p->total = total;
-    p->last_shown = (size_t)-1;
-    /* Only a terminal gets the line: in a log file or a pipe the carriage returns
-     * would be noise, and scripts read stderr for error messages. */
-    p->enabled = isatty(STDERR_FILENO) && getenv("BUMPGRAD_NO_PROGRESS") == NULL;
-    p->t0 = p->enabled ? now_seconds() : 0.0;
+    static const struct {
+        const char *label, *unit;
+    } units[] = {{"eval", "bytes"},      {"perturb", "bytes"}, {"render", "tiles"},
+                 {"baking rows", "rows"}, {"accuracy", "steps"}, {"stability", "sweeps"}};
+    for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
+        if (label && strcmp(label, units[k].label) == 0)
+            return units[k].unit;
+    return "items";
 }
 
-static void format_rate(double rate, char *buf, size_t len)
+void cli_progress_begin(cli_progress *p, const char *label, size_t total)
+{
+    const size_t *rows = p->rows;
+    memset(p, 0, sizeof *p);
+    p->rows = rows;
+    p->label = label;
+    p->unit = unit_of(label);
+    p->total = total;
+    p->last_shown = (size_t)-1;
+    p->tty = isatty(STDERR_FILENO);
+    /* By default only a terminal gets the line (BUMPGRAD_NO_PROGRESS turns it
+     * off there too); --progress forces it anywhere, as one line per second
+     * instead of a redrawn one; --quiet silences it. */
+    p->enabled = !cli_global.quiet &&
+                 (cli_global.progress || (p->tty && getenv("BUMPGRAD_NO_PROGRESS") == NULL));
+    p->verbose = cli_verbose();
+    p->t0 = cli_now();
+    p->last_t = p->t0;
+}
+
+static void format_rate(double rate, const char *unit, char *buf, size_t len)
 {
     const char *suffix = "";
     if (rate >= 1e9)
@@ -136,38 +186,95 @@ static void format_rate(double rate, char *buf, size_t len)
         rate /= 1e6, suffix = "M";
     else if (rate >= 1e3)
         rate /= 1e3, suffix = "k";
-    snprintf(buf, len, "%.1f%s/s", rate, suffix);
+    if (strcmp(unit, "bytes") == 0)
+        snprintf(buf, len, "%.1f %sB/s", rate, suffix);
+    else
+        snprintf(buf, len, "%.1f%s %s/s", rate, suffix, unit);
+}
+
+static void format_eta(double s, char *buf, size_t len)
+{
+    if (!(s >= 0) || s > 1e7)
+        snprintf(buf, len, "?");
+    else if (s >= 3600)
+        snprintf(buf, len, "%dh%02dm", (int)(s / 3600), (int)(s / 60) % 60);
+    else if (s >= 60)
+        snprintf(buf, len, "%dm%02ds", (int)(s / 60), (int)s % 60);
+    else
+        snprintf(buf, len, "%.0fs", s);
+}
+
+static void progress_line(cli_progress *p, double now, const char *end)
+{
+    double dt = now - p->t0;
+    size_t done = p->done;
+    char rate[48], extra[64] = "", eta[24];
+    format_rate(dt > 0 ? (double)done / dt : 0.0, p->unit, rate, sizeof rate);
+    if (p->items && dt > 0) {
+        char r2[48];
+        format_rate((double)p->items / dt, "rows", r2, sizeof r2);
+        snprintf(extra, sizeof extra, ", %s", r2);
+    }
+    if (p->total) {
+        size_t d = done < p->total ? done : p->total;
+        format_eta(d ? dt * (double)(p->total - d) / (double)d : -1.0, eta, sizeof eta);
+        fprintf(stderr, "%s%s: %5.1f%%  %s%s  ETA %s%s", p->tty ? "\r" : "", p->label,
+                100.0 * (double)d / (double)p->total, rate, extra, eta, end);
+    } else {
+        fprintf(stderr, "%s%s: %zu %s  %s%s%s", p->tty ? "\r" : "", p->label, done, p->unit, rate,
+                extra, end);
+    }
+    fflush(stderr);
 }
 
 void cli_progress_update(cli_progress *p, size_t done)
 {
+    p->done = done;
+    if (p->rows)
+        p->items = *p->rows;
     if (!p->enabled)
         return;
-    /* Redraw at most once per 0.1 % (or every 2^16 items when the total is
-     * unknown) so that the clock and the terminal are not hit per item. */
-    size_t key = p->total ? (size_t)((double)done / (double)p->total * 1000.0) : done >> 16;
-    if (key == p->last_shown)
-        return;
-    p->last_shown = key;
-    double dt = now_seconds() - p->t0;
-    char rate[32];
-    format_rate(dt > 0 ? (double)done / dt : 0.0, rate, sizeof rate);
-    if (p->total)
-        fprintf(stderr, "\r%s: %5.1f%%  %s   ", p->label,
-                100.0 * (double)(done < p->total ? done : p->total) / (double)p->total, rate);
-    else
-        fprintf(stderr, "\r%s: %zu  %s   ", p->label, done, rate);
-    fflush(stderr);
+    if (p->tty) {
+        /* Redraw at most once per 0.1 % (or every 2^16 items when the total is
+         * unknown) so that the clock and the terminal are not hit per item. */
+        size_t key = p->total ? (size_t)((double)done / (double)p->total * 1000.0) : done >> 16;
+        if (key == p->last_shown)
+            return;
+        p->last_shown = key;
+        progress_line(p, cli_now(), "   ");
+    } else {
+        /* A log or a pipe: one full line a second, no carriage returns. */
+        double now = cli_now();
+        if (now - p->last_t < 1.0)
+            return;
+        p->last_t = now;
+        progress_line(p, now, "\n");
+    }
 }
 
 void cli_progress_end(cli_progress *p)
 {
-    if (!p->enabled)
-        return;
-    /* Erase the line so the next message (or the shell prompt) starts clean. */
-    fputs("\r\033[K", stderr);
+    double now = cli_now();
+    if (p->rows)
+        p->items = *p->rows;
+    if (p->enabled && p->tty)
+        /* Erase the line so the next message (or the shell prompt) starts clean. */
+        fputs("\r\033[K", stderr);
+    if ((p->enabled && !p->tty) || p->verbose) {
+        double dt = now - p->t0;
+        char rate[48], extra[64] = "";
+        format_rate(dt > 0 ? (double)p->done / dt : 0.0, p->unit, rate, sizeof rate);
+        if (p->items) {
+            char r2[48];
+            format_rate(dt > 0 ? (double)p->items / dt : 0.0, "rows", r2, sizeof r2);
+            snprintf(extra, sizeof extra, "; %zu rows, %s", p->items, r2);
+        }
+        fprintf(stderr, "%s: done, %zu %s in %.2f s (%s%s)\n", p->label, p->done, p->unit, dt,
+                rate, extra);
+    }
     fflush(stderr);
     p->enabled = 0;
+    p->verbose = 0;
 }
 
 static const char *const function_names[] = {"noise", "fbm", "turbulence"};
@@ -240,6 +347,16 @@ static void sink_end(void *ctx) { cli_progress_end(ctx); }
 
 bgt_progress cli_progress_sink(cli_progress *p)
 {
+    memset(p, 0, sizeof *p);
     bgt_progress s = {sink_begin, sink_update, sink_end, p};
     return s;
+}
+
+void cli_json_common(cli_json *j, const char *cmd, double seconds)
+{
+    cli_json_str(j, "command", cmd);
+    cli_json_str(j, "version", bg_version_string());
+    cli_json_str(j, "isa", bg_isa_name(bg_isa_active()));
+    cli_json_str(j, "isa_best", bg_isa_name(bg_isa_best()));
+    cli_json_num(j, "seconds", seconds);
 }

@@ -8,6 +8,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -31,13 +32,129 @@ static const char *quote(const char *s, size_t n, char *out, size_t cap)
             break;
         }
         unsigned char ch = (unsigned char)s[i];
-        if (ch < 0x20 || ch == 0x7f || ch == '"' || ch == '\\')
+        if (ch == '"' || ch == '\\') {
+            out[o++] = '\\';
+            out[o++] = (char)ch;
+        } else if (ch < 0x20 || ch == 0x7f)
             o += (size_t)snprintf(out + o, cap - o, "\\x%02x", ch);
         else
             out[o++] = (char)ch;
     }
     out[o] = '\0';
     return out;
+}
+
+/* ---- the decimal fast path ------------------------------------------------
+ * Most fields of a point table are short decimals ("-13.4567891",
+ * "1.5e-05"). For those, w * 10^e with w < 2^53 and |e| <= 22 is a product
+ * (or quotient) of two doubles that are exact, so one IEEE operation gives the
+ * correctly rounded double (Clinger 1990). For float, rounding that double
+ * again is wrong only when the double lands exactly on the midpoint between two
+ * floats (the true value may lie on either side); that case, and every field
+ * the fast path does not understand (more than 19 significant digits, hex,
+ * inf/nan, a bad character, a result near the float or double limits), goes
+ * to strtof/strtod, which also produces the error messages. tests/tools
+ * (csv_exact) compares both paths on millions of random and edge-case strings. */
+
+static const double pow10_exact[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                       1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                       1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+/* Scan a decimal at p (before end): the end of its text and, in *out, its
+ * value if the fast path applies and is exact; NULL to fall back. */
+static const char *scan_decimal(const char *p, const char *end, double *out)
+{
+    int neg = 0;
+    if (p < end && (*p == '-' || *p == '+'))
+        neg = *p == '-', p++;
+    uint64_t w = 0;
+    int exp10 = 0;
+    const char *d0 = p;
+    unsigned dig;
+    while (p < end && (dig = (unsigned)(*p - '0')) < 10)
+        w = w * 10 + dig, p++;
+    int digits = (int)(p - d0);
+    if (p < end && *p == '.') {
+        const char *f0 = ++p;
+        while (p < end && (dig = (unsigned)(*p - '0')) < 10)
+            w = w * 10 + dig, p++;
+        exp10 = -(int)(p - f0);
+        digits -= exp10;
+    }
+    /* 19 digits always fit in 64 bits (leading zeros included: a rare case
+     * with more digits simply takes strtod). */
+    if (digits == 0 || digits > 19)
+        return NULL;
+    if (p < end && (*p == 'e' || *p == 'E')) {
+        p++;
+        int eneg = 0, ev = 0;
+        if (p < end && (*p == '-' || *p == '+'))
+            eneg = *p == '-', p++;
+        const char *e0 = p;
+        while (p < end && (dig = (unsigned)(*p - '0')) < 10 && ev < 100000)
+            ev = ev * 10 + (int)dig, p++;
+        if (p == e0 || ev >= 100000)
+            return NULL;
+        exp10 += eneg ? -ev : ev;
+    }
+    if (w > (UINT64_C(1) << 53))
+        return NULL;
+    double d = (double)w;
+    if (w == 0) {
+        /* strtod gives -0.0 for "-0"; the exponent does not matter */
+    } else if (exp10 >= 0 && exp10 <= 22) {
+        d *= pow10_exact[exp10];
+    } else if (exp10 < 0 && exp10 >= -22) {
+        d /= pow10_exact[-exp10];
+    } else {
+        return NULL;
+    }
+    if (!(d < 1e300)) /* stay far from overflow, ERANGE is strtod's business */
+        return NULL;
+    *out = neg ? -d : d;
+    return p;
+}
+
+/* Parse s[0..n) (no blanks around) as a decimal; 1 with *out if the fast path
+ * applies and is exact, 0 to fall back. */
+static int fast_decimal(const char *s, size_t n, double *out)
+{
+    return scan_decimal(s, s + n, out) == s + n;
+}
+
+/* d is the double of a decimal; 1 with *out if (float)d is the correctly
+ * rounded float of that decimal. */
+static int exact_float(double d, float *out)
+{
+    double a = fabs(d);
+    if (a != 0 && (a < 0x1p-126 || a > 0x1p127)) /* subnormal or near FLT_MAX: strtof */
+        return 0;
+    /* A normal float keeps 24 of the double's 53 significant bits; d is a
+     * midpoint between two floats exactly when the 29 bits dropped are 1000...0.
+     * Then the true value may lie on either side: strtof decides. */
+    uint64_t bits;
+    memcpy(&bits, &d, sizeof bits);
+    if ((bits & ((UINT64_C(1) << 29) - 1)) == (UINT64_C(1) << 28))
+        return 0;
+    *out = (float)d;
+    return 1;
+}
+
+/* The float of the decimal s[0..n): 1 if exact, 0 to fall back to strtof. */
+static int fast_float(const char *s, size_t n, float *out)
+{
+    double d;
+    return fast_decimal(s, n, &d) && exact_float(d, out);
+}
+
+int bgt_csv_fast_path = 1;
+
+bg_status bgt_csv_parse_number(const char *s, size_t n, int dbl, double *dv, float *fv)
+{
+    /* For tests: the fast path, or 1 if it declined. */
+    if (dbl)
+        return fast_decimal(s, n, dv) ? BG_OK : BG_ERR_FORMAT;
+    return fast_float(s, n, fv) ? BG_OK : BG_ERR_FORMAT;
 }
 
 static bg_status row_error(const bgt_csv *c, size_t col, const char *fmt, const char *arg)
@@ -81,6 +198,10 @@ bg_status bgt_csv_open(bgt_csv *c, bgt_err *err, const char *path, int allow_non
 
 void bgt_csv_close(bgt_csv *c)
 {
+    free(c->arena);
+    free(c->offs);
+    c->arena = NULL;
+    c->offs = NULL;
     if (c->fp && c->fp != stdin)
         fclose(c->fp);
     c->fp = NULL;
@@ -192,12 +313,119 @@ bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
     return 0;
 }
 
+static size_t field_end(const char *s, size_t n, size_t b);
+
+/* One header name: blanks and one pair of double quotes around it removed. */
+static void header_name(const char *s, size_t b, size_t e, size_t *nb, size_t *ne)
+{
+    while (b < e && is_blank_char(s[b]))
+        b++;
+    while (e > b && is_blank_char(s[e - 1]))
+        e--;
+    if (e - b >= 2 && s[b] == '"' && s[e - 1] == '"')
+        b++, e--;
+    *nb = b, *ne = e;
+}
+
+static int same_name(const char *s, size_t n, const char *name)
+{
+    if (strlen(name) != n)
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (tolower((unsigned char)s[i]) != tolower((unsigned char)name[i]))
+            return 0;
+    return 1;
+}
+
+bg_status bgt_csv_header_map(bgt_csv *c, const char *const *names, int count)
+{
+    char *s;
+    size_t n;
+    char want[128] = "", got[64];
+    for (int k = 0; k < count; k++) {
+        strncat(want, names[k], sizeof want - strlen(want) - 2);
+        if (k + 1 < count)
+            strcat(want, ",");
+    }
+    int r = next_line(c, &s, &n);
+    if (r < 0)
+        return (bg_status)-r;
+    if (r == 0) {
+        c->line = 1;
+        return row_error(c, 1, "empty input, expected the header \"%s\"", want);
+    }
+    size_t pos = 0;
+    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
+        pos = 3;
+    int have[BGT_CSV_MAX_COLS] = {0}, found = 0, identity = 1;
+    c->ncols = 0;
+    c->id_header[0] = c->extra_header[0] = '\0';
+    for (;;) {
+        size_t e = field_end(s, n, pos), nb, ne;
+        if (c->ncols == BGT_CSV_MAX_COLS)
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: more than %d columns", c->name,
+                            pos + 1, BGT_CSV_MAX_COLS);
+        header_name(s, pos, e, &nb, &ne);
+        int role = -1;
+        for (int k = 0; k < count; k++)
+            if (same_name(s + nb, ne - nb, names[k])) {
+                if (have[k]) {
+                    char msg[160];
+                    snprintf(msg, sizeof msg, "column \"%s\" appears twice in the header",
+                             names[k]);
+                    return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: %s", c->name, nb + 1, msg);
+                }
+                have[k] = 1, role = k, found++;
+            }
+        if (role < 0 && same_name(s + nb, ne - nb, "id") && !c->id_header[0])
+            role = -2;
+        /* The exact old header ("x,y,z") keeps the fast path and the old output. */
+        if (role != c->ncols || ne - nb != strlen(names[role]) ||
+            memcmp(s + nb, names[role], ne - nb) != 0)
+            identity = 0;
+        char *dst = role == -2 ? c->id_header : c->extra_header;
+        size_t cap = role == -2 ? sizeof c->id_header : sizeof c->extra_header;
+        if (role < 0) {
+            size_t l = strlen(dst);
+            if (l + (e - pos) + 2 > cap)
+                return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: header too long", c->name,
+                                pos + 1);
+            if (role == -1 && l)
+                dst[l++] = ',';
+            memcpy(dst + l, s + pos, e - pos);
+            dst[l + (e - pos)] = '\0';
+        }
+        c->role[c->ncols++] = (signed char)role;
+        if (e >= n)
+            break;
+        pos = e + 1;
+    }
+    if (found < count) {
+        if (found == 0) {
+            char msg[256];
+            snprintf(msg, sizeof msg, "expected the header \"%s\" (any order, any case, extra "
+                                      "columns allowed), got \"%s\"",
+                     want, quote(s, n, got, sizeof got));
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:1: %s", c->name, msg);
+        }
+        for (int k = 0; k < count; k++)
+            if (!have[k]) {
+                char msg[256];
+                snprintf(msg, sizeof msg, "the header has no column \"%s\" (needs %s), got \"%s\"",
+                         names[k], want, quote(s, n, got, sizeof got));
+                return bgt_fail(c->err, BG_ERR_FORMAT, "%s:1:%zu: %s", c->name, n + 1, msg);
+            }
+    }
+    c->mapped = !(identity && c->ncols == count);
+    return 0;
+}
+
 /* Split and parse one row; `dbl` picks strtod into dcols, else strtof into fcols. */
-static bg_status parse_row(bgt_csv *c, char *s, size_t n, int count, int dbl, float *const *fcols,
-                     double *const *dcols, size_t row)
+static bg_status parse_row(bgt_csv *c, char *s, size_t n, size_t pos0, int count, int dbl,
+                           float *const *fcols, double *const *dcols, size_t row)
 {
     char tmp[64];
-    size_t pos = 0;
+    size_t pos = pos0;
     for (int k = 0; k < count; k++) {
         size_t b = pos;
         size_t e = b;
@@ -271,10 +499,180 @@ static bg_status parse_row(bgt_csv *c, char *s, size_t n, int count, int dbl, fl
     return 0;
 }
 
+/* A whole row of plain decimals through the fast path: 1 if every field was
+ * taken (values stored), 0 to parse the row again the careful way (which also
+ * words the errors). */
+static int fast_row(const char *s, size_t n, int count, int dbl, float *const *fcols,
+                    double *const *dcols, size_t row)
+{
+    const char *p = s, *end = s + n;
+    double dv[16];
+    float fv[16];
+    if (count > 16)
+        return 0;
+    for (int k = 0; k < count; k++) {
+        while (p < end && is_blank_char(*p))
+            p++;
+        p = scan_decimal(p, end, &dv[k]);
+        if (!p || (!dbl && !exact_float(dv[k], &fv[k])))
+            return 0;
+        while (p < end && is_blank_char(*p))
+            p++;
+        if (k + 1 < count) {
+            if (p == end || *p != ',')
+                return 0;
+            p++;
+        } else if (p != end) {
+            return 0;
+        }
+    }
+    for (int k = 0; k < count; k++) {
+        if (dbl)
+            dcols[k][row] = dv[k];
+        else
+            fcols[k][row] = fv[k];
+    }
+    return 1;
+}
+
+/* End of the field starting at s[b] (a ',' or n); a field starting with '"'
+ * runs to its closing quote ("" is a quote inside). */
+static size_t field_end(const char *s, size_t n, size_t b)
+{
+    size_t e = b;
+    while (e < n && is_blank_char(s[e]))
+        e++;
+    if (e < n && s[e] == '"') {
+        for (e++; e < n; e++)
+            if (s[e] == '"') {
+                if (e + 1 < n && s[e + 1] == '"')
+                    e++;
+                else {
+                    e++;
+                    break;
+                }
+            }
+    }
+    while (e < n && s[e] != ',')
+        e++;
+    return e;
+}
+
+static int arena_add(bgt_csv *c, const char *s, size_t n, size_t *start)
+{
+    if (c->arena_len + n + 1 > c->arena_cap) {
+        size_t cap = c->arena_cap ? c->arena_cap : 1 << 16;
+        while (cap < c->arena_len + n + 1)
+            cap *= 2;
+        char *a = realloc(c->arena, cap);
+        if (!a)
+            return 0;
+        c->arena = a;
+        c->arena_cap = cap;
+    }
+    *start = c->arena_len;
+    memcpy(c->arena + c->arena_len, s, n);
+    c->arena_len += n;
+    return 1;
+}
+
+/* A row of a mapped header: split into ncols fields, parse the wanted ones
+ * (same rules and messages as parse_row), keep the id and extra text. */
+static bg_status parse_mapped(bgt_csv *c, char *s, size_t n, int dbl, float *const *fcols,
+                              double *const *dcols, size_t row)
+{
+    size_t b = 0, *o = c->offs + 4 * row;
+    o[0] = o[1] = o[2] = o[3] = 0;
+    int extras = 0;
+    for (int k = 0; k < c->ncols; k++) {
+        if (k > 0 && b > n) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", c->ncols, k);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
+        }
+        size_t e = field_end(s, n, b);
+        if (k + 1 == c->ncols && e < n) {
+            int extra = 1;
+            for (size_t i = e + 1; i < n; i++)
+                extra += s[i] == ',';
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", c->ncols, c->ncols + extra);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, e + 2, msg);
+        }
+        if (k + 1 < c->ncols && e == n) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "expected %d fields, got %d", c->ncols, k + 1);
+            return bgt_fail(c->err, BG_ERR_FORMAT, "%s:%lu:%zu: %s", c->name, c->line, n + 1, msg);
+        }
+        int r = c->role[k];
+        size_t vb = b, ve = e;
+        while (vb < ve && is_blank_char(s[vb]))
+            vb++;
+        while (ve > vb && is_blank_char(s[ve - 1]))
+            ve--;
+        double dv;
+        float fv;
+        if (r >= 0 && bgt_csv_fast_path && scan_decimal(s + vb, s + ve, &dv) == s + ve &&
+            (dbl || exact_float(dv, &fv))) {
+            if (dbl)
+                dcols[r][row] = dv;
+            else
+                fcols[r][row] = fv;
+        } else if (r >= 0) {
+            char saved = s[e];
+            s[e] = '\0';
+            bg_status st = parse_row(c, s, e, b, 1, dbl, fcols ? fcols + r : NULL,
+                                     dcols ? dcols + r : NULL, row);
+            s[e] = saved;
+            if (st)
+                return st;
+        } else {
+            size_t start;
+            if (r == -2) {
+                if (!arena_add(c, s + b, e - b, &start))
+                    return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                o[0] = start, o[1] = e - b;
+            } else {
+                if (!arena_add(c, ",", extras ? 1 : 0, &start) ||
+                    !arena_add(c, s + b, e - b, &start))
+                    return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                if (!extras)
+                    o[2] = start;
+                o[3] += e - b + (extras ? 1 : 0);
+                extras++;
+            }
+        }
+        b = e + 1;
+    }
+    return 0;
+}
+
+void bgt_csv_row_text(const bgt_csv *c, size_t row, const char **id, size_t *idlen,
+                      const char **extra, size_t *extralen)
+{
+    static const char empty[] = "";
+    if (!c->mapped || !c->arena) {
+        *id = *extra = empty;
+        *idlen = *extralen = 0;
+        return;
+    }
+    const size_t *o = c->offs + 4 * row;
+    *id = c->arena + o[0], *idlen = o[1];
+    *extra = c->arena + o[2], *extralen = o[3];
+}
+
 static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, double *const *dcols,
                      size_t max, size_t *rows)
 {
     size_t got = 0;
+    c->arena_len = 0;
+    if (c->mapped && c->offs_cap < max) {
+        size_t *o = realloc(c->offs, 4 * max * sizeof *o);
+        if (!o)
+            return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        c->offs = o;
+        c->offs_cap = max;
+    }
     while (got < max) {
         char *s;
         size_t n;
@@ -283,6 +681,11 @@ static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, 
             return (bg_status)-r;
         if (r == 0)
             break;
+        if (bgt_csv_fast_path && !c->blank && !c->mapped &&
+            fast_row(s, n, count, dbl, fcols, dcols, got)) {
+            got++;
+            continue;
+        }
         if (line_is_blank(s, n)) {
             if (!c->blank)
                 c->blank = c->line;
@@ -294,7 +697,8 @@ static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, 
             c->line = c->blank;
             return row_error(c, 1, "blank line inside the data%s", "");
         }
-        bg_status e = parse_row(c, s, n, count, dbl, fcols, dcols, got);
+        bg_status e = c->mapped ? parse_mapped(c, s, n, dbl, fcols, dcols, got)
+                                : parse_row(c, s, n, 0, count, dbl, fcols, dcols, got);
         if (e)
             return e;
         got++;

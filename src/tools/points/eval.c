@@ -6,11 +6,45 @@
 #include <stdlib.h>
 #include <string.h>
 #include "common/csv.h"
+#include "common/npy.h"
+#include "table.h"
 #include "common/parallel.h"
 #include "common/safe_file.h"
 
 #define EVAL_BLOCK 8192
 #define EVAL_CHUNK 1024
+
+/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
+ * after ours, as they were. */
+static void write_header(FILE *fp, const bgt_csv *in, const char *ours)
+{
+    if (in->id_header[0])
+        fprintf(fp, "%s,", in->id_header);
+    fputs(ours, fp);
+    if (in->extra_header[0])
+        fprintf(fp, ",%s", in->extra_header);
+    fputc('\n', fp);
+}
+
+static void row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
+{
+    const char *id;
+    size_t idlen;
+    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
+    if (in->id_header[0]) {
+        fwrite(id, 1, idlen, fp);
+        fputc(',', fp);
+    }
+}
+
+static void row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
+{
+    if (in->extra_header[0]) {
+        fputc(',', fp);
+        fwrite(extra, 1, elen, fp);
+    }
+    fputc('\n', fp);
+}
 
 static const char *const eval_header[] = {"x", "y", "z"};
 
@@ -52,21 +86,19 @@ static void eval_chunk(void *ctx, size_t b, size_t e, int worker)
 
 bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
 {
-    bgt_csv in;
+    bgt_table_in tin;
     bg_status rc;
-    if ((rc = bgt_csv_open(&in, e, o->input, o->allow_nonfinite)))
+    if ((rc = bgt_table_open(&tin, e, o->input, o->allow_nonfinite, eval_header, 3)))
         return rc;
-    if ((rc = bgt_csv_header(&in, eval_header, 3))) {
-        bgt_csv_close(&in);
-        return rc;
-    }
+    const bgt_csv *inp = &tin.csv;
+    const int npy_out = bgt_npy_path(o->output);
 
     const int dbl = o->dbl;
     eval_job job = {.f = &o->fractal, .central = o->central, .dbl = dbl, .step = o->step};
     size_t elem = dbl ? sizeof(double) : sizeof(float);
     char *mem = malloc(7 * EVAL_BLOCK * elem);
     if (!mem) {
-        bgt_csv_close(&in);
+        bgt_table_close(&tin);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
     for (int k = 0; k < 7; k++) {
@@ -77,42 +109,64 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
     bgt_safe_file out;
     if ((rc = bgt_safe_open(&out, o->output, e))) {
         free(mem);
-        bgt_csv_close(&in);
+        bgt_table_close(&tin);
         return rc;
     }
     static char obuf[1 << 16];
     setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    fputs("x,y,z,value,dx,dy,dz\n", out.fp);
+    bgt_npy_out nout;
+    if (npy_out)
+        bgt_npy_begin(&nout, out.fp, dbl, 7, e);
+    else
+        write_header(out.fp, inp, "x,y,z,value,dx,dy,dz");
 
-    bgt_progress_begin(o->progress, "eval", in.size);
+    bgt_progress_begin(o->progress, "eval", bgt_table_size(&tin));
+    size_t total_rows = 0;
     for (;;) {
         size_t rows;
-        rc = dbl ? bgt_csv_read_double(&in, 3, job.dc, EVAL_BLOCK, &rows)
-                 : bgt_csv_read_float(&in, 3, job.fc, EVAL_BLOCK, &rows);
+        rc = bgt_table_read(&tin, 3, dbl, job.fc, job.dc, EVAL_BLOCK, &rows);
         if (rc || rows == 0)
             break;
         bgt_parallel_for(rows, EVAL_CHUNK, o->threads, eval_chunk, &job);
-        if (dbl) {
+        if (npy_out) {
+            bgt_npy_write(&nout, (const float *const *)job.fc, (const double *const *)job.dc,
+                          rows);
+        } else if (dbl) {
             double **c = job.dc;
-            for (size_t r = 0; r < rows; r++)
-                fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", c[0][r], c[1][r],
+            for (size_t r = 0; r < rows; r++) {
+                const char *x;
+                size_t xl;
+                row_prefix(out.fp, inp, r, &x, &xl);
+                fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", c[0][r], c[1][r],
                         c[2][r], c[3][r], c[4][r], c[5][r], c[6][r]);
+                row_suffix(out.fp, inp, x, xl);
+            }
         } else {
             float **c = job.fc;
-            for (size_t r = 0; r < rows; r++)
-                fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", (double)c[0][r],
+            for (size_t r = 0; r < rows; r++) {
+                const char *x;
+                size_t xl;
+                row_prefix(out.fp, inp, r, &x, &xl);
+                fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", (double)c[0][r],
                         (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
                         (double)c[5][r], (double)c[6][r]);
+                row_suffix(out.fp, inp, x, xl);
+            }
         }
         if (ferror(out.fp)) {
             rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
                           strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
             break;
         }
-        bgt_progress_update(o->progress, in.consumed);
+        total_rows += rows;
+        if (o->stats)
+            o->stats->rows = total_rows;
+        bgt_progress_update(o->progress, bgt_table_consumed(&tin));
     }
     bgt_progress_end(o->progress);
-    bgt_csv_close(&in);
+    bgt_table_close(&tin);
+    if (!rc && npy_out)
+        rc = bgt_npy_finish(&nout, o->output, e);
     if (rc) {
         bgt_safe_abort(&out);
         free(mem);

@@ -8,11 +8,48 @@
 #include <stdlib.h>
 #include <string.h>
 #include "common/csv.h"
+#include "common/npy.h"
+#include "table.h"
 #include "common/parallel.h"
 #include "common/safe_file.h"
+#if BG_HAVE_TOOLS
+#include "bumpgrad/volume.h"
+#endif
 
 #define PERTURB_BLOCK 8192
 #define PERTURB_CHUNK 1024
+
+/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
+ * after ours, as they were. */
+static void write_header(FILE *fp, const bgt_csv *in, const char *ours)
+{
+    if (in->id_header[0])
+        fprintf(fp, "%s,", in->id_header);
+    fputs(ours, fp);
+    if (in->extra_header[0])
+        fprintf(fp, ",%s", in->extra_header);
+    fputc('\n', fp);
+}
+
+static void row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
+{
+    const char *id;
+    size_t idlen;
+    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
+    if (in->id_header[0]) {
+        fwrite(id, 1, idlen, fp);
+        fputc(',', fp);
+    }
+}
+
+static void row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
+{
+    if (in->extra_header[0]) {
+        fputc(',', fp);
+        fwrite(extra, 1, elen, fp);
+    }
+    fputc('\n', fp);
+}
 
 static const char *const perturb_header[] = {"x", "y", "z", "nx", "ny", "nz"};
 
@@ -41,57 +78,115 @@ static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
 
 bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 {
-    bgt_csv in;
+    bgt_table_in tin;
     bg_status rc;
-    if ((rc = bgt_csv_open(&in, e, o->input, o->allow_nonfinite)))
+    if ((rc = bgt_table_open(&tin, e, o->input, o->allow_nonfinite, perturb_header, 6)))
         return rc;
-    if ((rc = bgt_csv_header(&in, perturb_header, 6))) {
-        bgt_csv_close(&in);
-        return rc;
-    }
+    const bgt_csv *inp = &tin.csv;
+    const int npy_out = bgt_npy_path(o->output);
     perturb_job job = {.h = o->height, .method = o->method};
-    float *mem = malloc(10 * PERTURB_BLOCK * sizeof(float));
+    float *mem = malloc(11 * PERTURB_BLOCK * sizeof(float));
     if (!mem) {
-        bgt_csv_close(&in);
+        bgt_table_close(&tin);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
     for (int k = 0; k < 10; k++)
         job.c[k] = mem + (size_t)k * PERTURB_BLOCK;
+    float *inward_col = mem + (size_t)10 * PERTURB_BLOCK; /* for .npy output */
 
     bgt_safe_file out;
     if ((rc = bgt_safe_open(&out, o->output, e))) {
         free(mem);
-        bgt_csv_close(&in);
+        bgt_table_close(&tin);
         return rc;
     }
     static char obuf[1 << 16];
     setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    fputs("x,y,z,nx,ny,nz,height,px,py,pz,inward\n", out.fp);
+    bgt_npy_out nout;
+    if (npy_out)
+        bgt_npy_begin(&nout, out.fp, 0, 11, e);
+    else
+        write_header(out.fp, inp, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
 
-    bgt_progress_begin(o->progress, "perturb", in.size);
+    bgt_progress_begin(o->progress, "perturb", bgt_table_size(&tin));
+    size_t total_rows = 0;
+    /* A VDB height is zero (and flat) outside its active voxels: count the
+     * points inside their world box, one voxel of margin (the stencil's reach),
+     * so that a table that misses the grid entirely can be reported. */
+    int grid = 0;
+    double box[6] = {0};
+#if BG_HAVE_TOOLS
+    if (o->height->grid) {
+        bg_vdb_height_info info;
+        bg_vdb_height_get_info((const bg_vdb_height *)o->height->grid, &info);
+        for (int k = 0; k < 3; k++) {
+            box[k] = info.world_min[k] - info.voxel_size[k];
+            box[3 + k] = info.world_max[k] + info.voxel_size[k];
+        }
+        grid = 1;
+        if (o->stats) {
+            o->stats->grid = 1;
+            for (int k = 0; k < 3; k++) {
+                o->stats->grid_box[k] = info.world_min[k];
+                o->stats->grid_box[3 + k] = info.world_max[k];
+            }
+        }
+    }
+#endif
     for (;;) {
         size_t rows;
-        rc = bgt_csv_read_float(&in, 6, job.c, PERTURB_BLOCK, &rows);
+        rc = bgt_table_read(&tin, 6, 0, job.c, NULL, PERTURB_BLOCK, &rows);
         if (rc || rows == 0)
             break;
         bgt_parallel_for(rows, PERTURB_CHUNK, o->threads, perturb_chunk, &job);
         float **c = job.c;
-        for (size_t r = 0; r < rows; r++)
-            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
+        size_t block_inward = 0, block_in_grid = 0;
+        if (grid)
+            for (size_t r = 0; r < rows; r++)
+                block_in_grid += c[0][r] >= box[0] && c[0][r] <= box[3] && c[1][r] >= box[1] &&
+                                 c[1][r] <= box[4] && c[2][r] >= box[2] && c[2][r] <= box[5];
+        for (size_t r = 0; r < rows && npy_out; r++) {
+            int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+            block_inward += (size_t)inward;
+            inward_col[r] = (float)inward;
+        }
+        if (npy_out) {
+            const float *cols[11];
+            for (int k = 0; k < 10; k++)
+                cols[k] = c[k];
+            cols[10] = inward_col;
+            bgt_npy_write(&nout, cols, NULL, rows);
+        }
+        for (size_t r = 0; r < rows && !npy_out; r++) {
+            const char *x;
+            size_t xl;
+            row_prefix(out.fp, inp, r, &x, &xl);
+            int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+            block_inward += (size_t)inward;
+            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d",
                     (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
                     (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
-                    (double)c[8][r], (double)c[9][r],
-                    is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]));
+                    (double)c[8][r], (double)c[9][r], inward);
+            row_suffix(out.fp, inp, x, xl);
+        }
         if (ferror(out.fp)) {
             rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
                           strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
             break;
         }
-        bgt_progress_update(o->progress, in.consumed);
+        total_rows += rows;
+        if (o->stats) {
+            o->stats->rows = total_rows;
+            o->stats->inward += block_inward;
+            o->stats->in_grid += block_in_grid;
+        }
+        bgt_progress_update(o->progress, bgt_table_consumed(&tin));
     }
     bgt_progress_end(o->progress);
-    bgt_csv_close(&in);
+    bgt_table_close(&tin);
     free(mem);
+    if (!rc && npy_out)
+        rc = bgt_npy_finish(&nout, o->output, e);
     if (rc) {
         bgt_safe_abort(&out);
         return rc;

@@ -9,6 +9,15 @@
 #include "common/tool.h"
 #include "height_source.h"
 
+/* What a run saw (optional): rows is updated before each progress update. */
+typedef struct bgt_points_stats {
+    size_t rows;
+    size_t inward;       /* perturb: rows with dot(n', n) <= 0 */
+    int grid;            /* perturb with a VDB height: in_grid and grid_box are set */
+    size_t in_grid;      /* rows inside the grid's active box (one voxel of margin) */
+    double grid_box[6];  /* world box of the active voxel centres, min then max */
+} bgt_points_stats;
+
 typedef struct bgt_eval_opts {
     const char *input, *output; /* "-": standard input / output */
     bg_fractal fractal;
@@ -17,7 +26,8 @@ typedef struct bgt_eval_opts {
     double step;   /* central step, > 0 */
     int threads;   /* 0: all cores */
     int allow_nonfinite;
-    const bgt_progress *progress;
+    const bgt_progress *progress; /* counts input bytes (total: the file size, 0 for a pipe) */
+    bgt_points_stats *stats;      /* may be NULL */
 } bgt_eval_opts;
 
 /* Columns x,y,z in; x,y,z,value,dx,dy,dz out (%.9g float, %.17g double: both
@@ -30,7 +40,8 @@ typedef struct bgt_perturb_opts {
     bg_perturb_method method;
     int threads;
     int allow_nonfinite;
-    const bgt_progress *progress;
+    const bgt_progress *progress; /* as for eval */
+    bgt_points_stats *stats;      /* may be NULL */
 } bgt_perturb_opts;
 
 /* Columns x,y,z,nx,ny,nz in; x,y,z,nx,ny,nz,height,px,py,pz,inward out. */
