@@ -89,21 +89,12 @@ static void main_help(FILE *fp)
 
 /* A level is usable if it is scalar, the best one, or below the best on the same
  * x86 chain (NEON is its own chain); the same rule as the library's dispatch. */
-static int isa_usable(bg_isa isa, bg_isa best)
-{
-    if (isa == BG_ISA_SCALAR || isa == best)
-        return 1;
-    if (isa == BG_ISA_NEON || best == BG_ISA_NEON)
-        return 0;
-    return isa <= best;
-}
-
+/* The levels this CPU and build can run, by the library's one rule. */
 static void list_usable(char *buf, size_t len)
 {
-    bg_isa best = bg_isa_best();
     buf[0] = '\0';
     for (int i = 0; i < BG_ISA_COUNT; i++)
-        if (isa_usable((bg_isa)i, best)) {
+        if (bg_isa_supported((bg_isa)i)) {
             if (buf[0])
                 strncat(buf, ", ", len - strlen(buf) - 1);
             strncat(buf, bg_isa_name((bg_isa)i), len - strlen(buf) - 1);
@@ -120,7 +111,7 @@ static int apply_isa(const char *source, const char *name)
     if (bg_isa_parse(name, &isa) != BG_OK)
         return cli_usage_error(NULL, "%s: unknown ISA level \"%s\" (this CPU has: %s)", source,
                                name, have);
-    if (!isa_usable(isa, bg_isa_best()) || bg_isa_force(isa) != BG_OK)
+    if (!bg_isa_supported(isa) || bg_isa_force(isa) != BG_OK)
         return cli_usage_error(NULL,
                                "%s: ISA level \"%s\" is not available here (this CPU has: %s)",
                                source, name, have);
@@ -359,8 +350,10 @@ static int dispatch(int argc, char **argv)
     if (isa_arg) {
         rc = apply_isa("--isa", isa_arg);
     } else {
-        const char *env = getenv("BUMPGRAD_ISA");
-        rc = env && *env ? apply_isa("BUMPGRAD_ISA", env) : 0;
+        /* The library reads BUMPGRAD_ISA itself; it says what is wrong with it,
+         * and the command refuses to run at a level other than the one asked. */
+        char msg[256];
+        rc = bg_isa_env_status(msg, sizeof msg) == BG_OK ? 0 : cli_usage_error(NULL, "%s", msg);
     }
     if (rc) {
         free(cargv);
