@@ -33,6 +33,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char name[32];
     snprintf(name, sizeof name, "in.%s", exts[data[0] % (sizeof exts / sizeof exts[0])]);
     unsigned flags = flag_choice[data[1] % (sizeof flag_choice / sizeof flag_choice[0])];
+    /* FUZZ_SKIP_KNOWN_HANG=1: skip the known hang (issue 13 item 3: assimp's PLY
+     * reader loops forever on a header without end_header, and the import
+     * child has no timeout), which otherwise is most of what a long run finds.
+     * Unset, the harness reports it (tests/fuzz/crashes/mesh-hang-*). */
+    static int skip_known = -1;
+    if (skip_known < 0) {
+        const char *s = getenv("FUZZ_SKIP_KNOWN_HANG");
+        skip_known = s && *s == '1';
+    }
+    if (skip_known && !strcmp(name, "in.ply") &&
+        !memmem(data + 2, size - 2, "end_header", 10))
+        return -1; /* not added to the corpus */
     const char *path = fuzz_write_file(name, data + 2, size - 2);
     bg_mesh m;
     memset(&m, 0x5a, sizeof m);
