@@ -10,12 +10,68 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <strings.h>
 #include <unistd.h>
 #include "cli.h"
+#include "json.h"
 #include "render/render.h"
 
 static const char *const CMD = "render";
+
+/* What only the command does with the results: --json, --fail-above. */
+static struct {
+    int json;
+    float fail_above; /* < 0: off */
+} render_cli = {0, -1.0f};
+
+static void print_json(const render_opts *o, const render_result *r, double seconds)
+{
+    cli_json j;
+    cli_json_begin(&j, stdout);
+    cli_json_common(&j, CMD, seconds);
+    cli_json_str(&j, "output", o->output);
+    cli_json_int(&j, "width", r->out_width);
+    cli_json_int(&j, "height", r->out_height);
+    cli_json_int(&j, "triangles", (long long)r->triangles);
+    cli_json_object(&j, "methods");
+    for (int m = 0; m < r->nmethods; m++) {
+        cli_json_object(&j, render_method_name(r->methods[m]));
+        cli_json_num(&j, "mean_deg", r->stats[m].mean_deg);
+        cli_json_num(&j, "p99_deg", r->stats[m].p99_deg);
+        cli_json_num(&j, "max_deg", r->stats[m].max_deg);
+        cli_json_num(&j, "inward_fraction", r->stats[m].inward_fraction);
+        cli_json_int(&j, "hits", (long long)r->stats[m].hits);
+        cli_json_close(&j);
+    }
+    cli_json_close(&j);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "scene", o->mesh_path ? "mesh" : render_shape_name(o->shape));
+    cli_json_str(&j, "mesh", o->mesh_path);
+    cli_json_int(&j, "spp", o->ss * o->ss);
+    cli_json_num(&j, "distance", o->distance);
+    cli_json_num(&j, "zoom", o->zoom);
+    cli_json_nums(&j, "light", (const double[3]){o->light[0], o->light[1], o->light[2]}, 3);
+    cli_json_int(&j, "closeup", o->closeup);
+    cli_json_height(&j, "height", &o->h);
+    cli_json_close(&j);
+    if (r->nsweep) {
+        cli_json_object(&j, "sweep");
+        for (int k = 0; k < r->nsweep; k++) {
+            char key[96];
+            snprintf(key, sizeof key, "%s@%g", render_method_name(r->sweep[k].method),
+                     r->sweep[k].density);
+            cli_json_object(&j, key);
+            cli_json_num(&j, "mean_deg", r->sweep[k].st.mean_deg);
+            cli_json_num(&j, "p99_deg", r->sweep[k].st.p99_deg);
+            cli_json_int(&j, "spp", r->sweep[k].spp);
+            cli_json_close(&j);
+        }
+        cli_json_close(&j);
+    }
+    cli_json_end(&j);
+}
+
 
 static void render_help(FILE *fp)
 {
@@ -85,7 +141,11 @@ static void render_help(FILE *fp)
           "  --view X,Y,Z        camera direction from the centre (default 0,0.28,1)\n"
           "  --tracer T          auto (default: embree for --mesh, bvh for the built-in\n"
           "                      scenes), bvh or embree\n"
-          "  --output FILE       .png (8-bit sRGB) or .exr (32-bit float, linear)\n"
+          "  --output FILE       .png (8-bit sRGB) or .exr (32-bit float, linear); also\n"
+          "                      .tif/.hdr (float, linear), .jpg/.ppm/.bmp/.tga (8-bit sRGB)\n"
+          "  --json              print the statistics as one JSON object instead of lines\n"
+          "  --fail-above DEG    exit 3 when a method's mean angle to surfgrad exceeds DEG\n"
+          "                      (idiff -fail style, for CI; the image is still written)\n"
           "\n"
           "Prints one line per method: stats method=M mean_deg p99_deg max_deg (angle\n"
           "to analytic surfgrad, over the samples that hit) and inward (fraction of\n"
@@ -182,6 +242,10 @@ static int parse_args(int argc, char **argv, render_opts *o)
             o->sweep = 1;
             continue;
         }
+        if (strcmp(a, "--json") == 0) {
+            render_cli.json = 1;
+            continue;
+        }
         if (strcmp(a, "--no-albedo") == 0) {
             o->no_albedo = 1;
             continue;
@@ -190,7 +254,7 @@ static int parse_args(int argc, char **argv, render_opts *o)
             "--preset", "--method", "--compare", "--scene", "--grid",  "--size",     "--spp",
             "--distance", "--zoom", "--closeup", "--heat-max", "--threads", "--output", "-o",
             "--light", "--mesh", "--height-map", "--normal-map", "--albedo", "--tex-amplitude",
-            "--st-scale", "--view", "--tracer"};
+            "--st-scale", "--view", "--tracer", "--fail-above"};
         int known = 0;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= strcmp(a, with_value[k]) == 0;
@@ -292,6 +356,13 @@ static int parse_args(int argc, char **argv, render_opts *o)
             o->threads = (int)l;
         } else if (strcmp(a, "--output") == 0 || strcmp(a, "-o") == 0) {
             o->output = v;
+        } else if (strcmp(a, "--fail-above") == 0) {
+            float deg;
+            if (cli_parse_float(CMD, a, v, &deg))
+                return CLI_USAGE;
+            if (!(deg >= 0))
+                return cli_usage_error(CMD, "--fail-above: must be >= 0, got \"%s\"", v);
+            render_cli.fail_above = deg;
         } else {
             return cli_usage_error(CMD, "unknown option \"%s\" (see bumpgrad render --help)", a);
         }
@@ -318,10 +389,17 @@ int cmd_render(int argc, char **argv)
     bgt_progress sink = cli_progress_sink(&prog);
     o.progress = &sink;
     render_result r;
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
     s = render_image(&o, &r, &err);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
     bgt_height_close(&o.h);
     if (s != BG_OK && r.out_width == 0)
         return cli_report(CMD, s, &err);
+    if (render_cli.json) {
+        print_json(&o, &r, (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
+        goto verdict;
+    }
     const bg_height *h = &o.h.h;
     if (o.mesh_path)
         printf("render mesh=%s triangles=%zu", o.mesh_path, r.triangles);
@@ -349,7 +427,19 @@ int cmd_render(int argc, char **argv)
                render_method_name(w->method), w->density, w->width, w->height, w->spp,
                w->st.mean_deg, w->st.p99_deg, w->st.max_deg, w->st.inward_fraction, w->st.hits);
     }
+verdict:
     /* A sweep that failed after the image was written: the image stands, the
      * run still fails. */
-    return s != BG_OK ? cli_report(CMD, s, &err) : CLI_OK;
+    if (s != BG_OK)
+        return cli_report(CMD, s, &err);
+    if (render_cli.fail_above >= 0)
+        for (int m = 0; m < r.nmethods; m++)
+            if (r.stats[m].mean_deg > render_cli.fail_above) {
+                fflush(stdout);
+                fprintf(stderr, "bumpgrad render: FAIL: %s mean angle %.4f deg > --fail-above %g\n",
+                        render_method_name(r.methods[m]), r.stats[m].mean_deg,
+                        (double)render_cli.fail_above);
+                return 3;
+            }
+    return CLI_OK;
 }

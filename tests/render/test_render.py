@@ -199,6 +199,36 @@ def t_closeup(tmp):
     check(d.returncode == 0, "the x1 close-up equals the render itself")
 
 
+def t_json(tmp):
+    # --json: one object that a JSON parser accepts, with the same statistics
+    # as the text lines; --fail-above: exit 3 past the threshold, idiff-style;
+    # any format OpenImageIO writes, with a sensible bit depth.
+    import json
+    args = ["--compare", "surfgrad,listing1", "--size", "48x48"]
+    rc, so, _ = run(args + ["--output", os.path.join(tmp, "a.png")], tmp)
+    rc2, sj, _ = run(args + ["--json", "--output", os.path.join(tmp, "b.png")], tmp)
+    check(rc == 0 and rc2 == 0, "render with and without --json")
+    try:
+        doc = json.loads(sj)
+    except ValueError as e:
+        doc = {}
+        check(False, f"--json output parses ({e}: {sj[:200]!r})")
+    text = stats(so)
+    check(abs(doc.get("methods", {}).get("listing1", {}).get("mean_deg", -1) -
+              text["listing1"]["mean_deg"]) < 1e-4, "JSON and text statistics agree")
+    check(doc.get("parameters", {}).get("height", {}) != {}, "JSON carries the parameters")
+    mean = text["listing1"]["mean_deg"]
+    rc, _, se = run(args + [f"--fail-above={mean / 2}", "--output", os.path.join(tmp, "c.png")], tmp)
+    check(rc == 3 and "FAIL" in se, f"--fail-above below the mean error: exit 3 (got {rc})")
+    rc, _, _ = run(args + ["--fail-above", str(mean * 2), "--output", os.path.join(tmp, "d.png")], tmp)
+    check(rc == 0, "--fail-above over the mean error: exit 0")
+    for ext, want in (("tif", "float"), ("jpg", "uint8"), ("hdr", "float"), ("ppm", "uint8")):
+        out = os.path.join(tmp, "x." + ext)
+        rc, _, se = run(["--size", "24x24", "--output", out], tmp)
+        info = subprocess.run(["iinfo", out], capture_output=True, text=True).stdout
+        check(rc == 0 and want in info, f".{ext} output written as {want} ({se.strip()} {info.strip()})")
+
+
 def t_badargs(tmp):
     old = os.path.join(tmp, "old.png")
     with open(old, "wb") as f:
@@ -385,7 +415,8 @@ def t_fig4(tmp):
 
 TESTS = {"presets": t_presets, "inward": t_inward, "density": t_density, "none": t_none,
          "determinism": t_determinism, "badargs": t_badargs, "closeup": t_closeup,
-         "mesh": t_mesh, "mesherrors": t_mesherrors, "tracers": t_tracers, "fig4": t_fig4}
+         "mesh": t_mesh, "mesherrors": t_mesherrors, "tracers": t_tracers, "fig4": t_fig4,
+         "json": t_json}
 
 if __name__ == "__main__":
     if shutil.which("iinfo") is None or shutil.which("idiff") is None:

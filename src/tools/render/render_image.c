@@ -116,13 +116,26 @@ static const char *extension(const char *path)
  * end in an I/O error; bg_image_write still reports any later failure. */
 static bg_status check_output(const char *path, bg_pixel_type *type, int *srgb, bgt_err *e)
 {
+    /* The bit depth each format holds sensibly: float (linear) where the format
+     * stores floats, 8-bit sRGB for the display formats. */
+    static const struct {
+        const char *ext;
+        bg_pixel_type type;
+        int srgb;
+    } formats[] = {{".png", BG_PIXEL_U8, 1},  {".exr", BG_PIXEL_F32, 0},
+                   {".tif", BG_PIXEL_F32, 0}, {".tiff", BG_PIXEL_F32, 0},
+                   {".hdr", BG_PIXEL_F32, 0}, {".jpg", BG_PIXEL_U8, 1},
+                   {".jpeg", BG_PIXEL_U8, 1}, {".ppm", BG_PIXEL_U8, 1},
+                   {".bmp", BG_PIXEL_U8, 1},  {".tga", BG_PIXEL_U8, 1}};
     const char *ext = extension(path);
-    if (strcasecmp(ext, ".png") == 0)
-        *type = BG_PIXEL_U8, *srgb = 1;
-    else if (strcasecmp(ext, ".exr") == 0)
-        *type = BG_PIXEL_F32, *srgb = 0;
-    else
-        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--output: \"%s\": expected a .png or .exr file name", path);
+    size_t k = 0, nf = sizeof formats / sizeof formats[0];
+    while (k < nf && strcasecmp(ext, formats[k].ext) != 0)
+        k++;
+    if (k == nf)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--output: \"%s\": expected a .png or .exr file name (or .tif, .hdr, "
+                        ".jpg, .ppm, .bmp, .tga)", path);
+    *type = formats[k].type, *srgb = formats[k].srgb;
     char *dir = malloc(strlen(path) + 2);
     if (!dir)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
