@@ -174,6 +174,63 @@ static void test_rules(void)
           "zero uv: the degenerate triangle did not inherit corner %zu", first);
 }
 
+/* encode is the exact inverse of the renderer's decode, on real frames of
+ * the curved and the mirrored patch (signs +1 and -1) */
+static void test_encode_decode(void)
+{
+    static mc_mesh a;
+    static float tan[12 * MC_MAXT];
+    const int ids[2] = {MC_CURVED, MC_MIRRORED};
+    unsigned seed = 12345u;
+    double worst = 0.0;
+    int fails = 0, negative = 0;
+    for (int q = 0; q < 2; q++) {
+        mc_build(ids[q], &a);
+        bgt_mikk_mesh v = view(&a);
+        bgt_mikk_tangents(&v, tan, NULL);
+        for (size_t t = 0; t < a.nt; t++) {
+            float nv[3][3];
+            const float *tc[3], *nc[3];
+            for (int k = 0; k < 3; k++) {
+                uint32_t i = a.ix[3 * t + (size_t)k];
+                nv[k][0] = a.nx[i], nv[k][1] = a.ny[i], nv[k][2] = a.nz[i];
+                tc[k] = tan + 4 * (3 * t + (size_t)k);
+                nc[k] = nv[k];
+            }
+            negative += tc[0][3] < 0.0f;
+            for (int r = 0; r < 20; r++) {
+                double w[3], d[3], mm[3], back[3];
+                seed = seed * 1664525u + 1013904223u;
+                w[1] = (seed >> 8) / 16777216.0;
+                seed = seed * 1664525u + 1013904223u;
+                w[2] = (1.0 - w[1]) * ((seed >> 8) / 16777216.0);
+                w[0] = 1.0 - w[1] - w[2];
+                bgt_mikk_frame f;
+                bgt_mikk_frame_at(tc, nc, w, &f);
+                for (int k = 0; k < 3; k++) {
+                    seed = seed * 1664525u + 1013904223u;
+                    d[k] = f.n[k] + 0.8 * ((seed >> 8) / 8388608.0 - 1.0);
+                }
+                double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                for (int k = 0; k < 3; k++)
+                    d[k] /= l;
+                if (bgt_mikk_encode(&f, d, mm) != 0 || bgt_mikk_decode(&f, mm, back) != 0) {
+                    fails++;
+                    continue;
+                }
+                float fa[3] = {(float)d[0], (float)d[1], (float)d[2]};
+                float fb[3] = {(float)back[0], (float)back[1], (float)back[2]};
+                double e = angle_deg(fa, fb);
+                worst = e > worst ? e : worst;
+            }
+        }
+    }
+    CHECK(fails == 0 && negative > 0, "encode/decode: %d failures, %d mirrored triangles", fails,
+          negative);
+    CHECK(worst < 1e-4, "encode/decode round trip off by %.3g deg", worst);
+    printf("encode/decode round trip: max %.2g deg (float-rounded comparison)\n", worst);
+}
+
 static void test_errors(void)
 {
     static mc_mesh a;
@@ -195,6 +252,7 @@ int main(void)
 {
     test_against_reference();
     test_rules();
+    test_encode_decode();
     test_errors();
     printf("%s\n", failures ? "FAILED" : "ok");
     return failures ? 1 : 0;

@@ -508,3 +508,65 @@ done:
         *stats = st;
     return rc;
 }
+
+/* ---- the renderer's frame and its exact inverse ---- */
+
+void bgt_mikk_frame_at(const float *const tan[3], const float *const nrm[3], const double w[3],
+                       bgt_mikk_frame *f)
+{
+    double s = 0.0;
+    for (int a = 0; a < 3; a++) {
+        f->t[a] = w[0] * tan[0][a] + w[1] * tan[1][a] + w[2] * tan[2][a];
+        f->n[a] = w[0] * nrm[0][a] + w[1] * nrm[1][a] + w[2] * nrm[2][a];
+    }
+    s = w[0] * tan[0][3] + w[1] * tan[1][3] + w[2] * tan[2][3];
+    const double *n = f->n, *t = f->t;
+    f->b[0] = s * (n[1] * t[2] - n[2] * t[1]);
+    f->b[1] = s * (n[2] * t[0] - n[0] * t[2]);
+    f->b[2] = s * (n[0] * t[1] - n[1] * t[0]);
+}
+
+int bgt_mikk_decode(const bgt_mikk_frame *f, const double m[3], double out[3])
+{
+    double l2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+        out[a] = m[0] * f->t[a] + m[1] * f->b[a] + m[2] * f->n[a];
+        l2 += out[a] * out[a];
+    }
+    double l = sqrt(l2);
+    if (!(isfinite(l) && l > 0.0)) {
+        out[0] = out[1] = out[2] = 0.0;
+        return -1;
+    }
+    for (int a = 0; a < 3; a++)
+        out[a] /= l;
+    return 0;
+}
+
+static void cross3(const double *a, const double *b, double *c)
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+int bgt_mikk_encode(const bgt_mikk_frame *f, const double v[3], double m[3])
+{
+    double r0[3], r1[3], r2[3];
+    cross3(f->b, f->n, r0);
+    cross3(f->n, f->t, r1);
+    cross3(f->t, f->b, r2);
+    /* r_i . v = det(M) (M^-1 v)_i with M = [t b n] */
+    double det = f->t[0] * r0[0] + f->t[1] * r0[1] + f->t[2] * r0[2];
+    double s = det < 0.0 ? -1.0 : 1.0;
+    m[0] = s * (r0[0] * v[0] + r0[1] * v[1] + r0[2] * v[2]);
+    m[1] = s * (r1[0] * v[0] + r1[1] * v[1] + r1[2] * v[2]);
+    m[2] = s * (r2[0] * v[0] + r2[1] * v[1] + r2[2] * v[2]);
+    double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    if (!(isfinite(l) && l > 0.0 && det != 0.0 && isfinite(det))) {
+        m[0] = m[1] = m[2] = 0.0;
+        return -1;
+    }
+    m[0] /= l, m[1] /= l, m[2] /= l;
+    return 0;
+}

@@ -69,4 +69,27 @@ typedef struct bgt_mikk_stats {
  *  BG_ERR_OUT_OF_MEMORY. */
 bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats);
 
+/** The frame a mikkTSpace renderer builds inside a triangle: the corner
+ *  tangents, signs and normals interpolated with the barycentric weights w
+ *  and NOT normalized (mikktspace.h, "pixel shader (fast transform out)"):
+ *  t = sum w_k t_k, n = sum w_k n_k, b = (sum w_k s_k) cross(n, t).
+ *  `tan` holds the triangle's 3 corners (4 floats each, as bgt_mikk_tangents
+ *  writes them), `nrm` its 3 unit vertex normals (3 floats each). */
+typedef struct bgt_mikk_frame {
+    double t[3], b[3], n[3];
+} bgt_mikk_frame;
+void bgt_mikk_frame_at(const float *const tan[3], const float *const nrm[3], const double w[3],
+                       bgt_mikk_frame *f);
+
+/** The renderer's decoding: normalize(m.x t + m.y b + m.z n). Returns 0, or
+ *  -1 (out set to 0) when the result has no direction. */
+int bgt_mikk_decode(const bgt_mikk_frame *f, const double m[3], double out[3]);
+
+/** The baker's encoding, the exact inverse of bgt_mikk_decode (the sampler of
+ *  mikktspace.h): m = normalize(s (row0 . v, row1 . v, row2 . v)) with
+ *  row0 = b x n, row1 = n x t, row2 = t x b and s the sign of t . row0, so
+ *  that decoding m gives back normalize(v). Returns 0, or -1 (m set to 0)
+ *  when the frame is singular or m has no direction. */
+int bgt_mikk_encode(const bgt_mikk_frame *f, const double v[3], double m[3]);
+
 #endif
