@@ -35,6 +35,12 @@ typedef struct bg_mesh {
                                 seen from the side the normals point to */
     size_t mesh_count;     /**< meshes of the scene that were flattened (instances counted) */
     size_t dropped_primitives; /**< points and lines that were not triangles */
+    /** Per-vertex tangents stored in the file (glTF TANGENT, FBX, ...): unit
+     *  xyz and the bitangent sign tw = +1 / -1 (b = tw cross(n, t)), or all
+     *  four NULL unless every mesh has tangents, normals and UVs. Normals and
+     *  tangents went through the node transform alike (normals by the inverse
+     *  transpose); tw is the handedness after it. */
+    float *tx, *ty, *tz, *tw;
 } bg_mesh;
 
 /** Loading options (bit flags) for bg_mesh_load_ex. */

@@ -205,7 +205,7 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     }
 
     size_t nv = 0, nt = 0, dropped = 0;
-    bool normals = !drop_normals, uvs = true;
+    bool normals = !drop_normals, uvs = true, tangents = true;
     for (const instance &in : inst) {
         const aiMesh *m = in.mesh;
         nv += m->mNumVertices;
@@ -217,7 +217,9 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
         }
         normals = normals && m->HasNormals();
         uvs = uvs && m->HasTextureCoords(0);
+        tangents = tangents && m->HasTangentsAndBitangents();
     }
+    tangents = tangents && normals && uvs;
     if (nt == 0) {
         set_error(err, errlen, "'%s': no triangles in the mesh (%zu vertices, %zu points/lines)",
                   path, nv, dropped);
@@ -248,6 +250,13 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
         m.u = alloc_array<float>(nv);
         m.v = alloc_array<float>(nv);
         ok = ok && m.u && m.v;
+    }
+    if (tangents) {
+        m.tx = alloc_array<float>(nv);
+        m.ty = alloc_array<float>(nv);
+        m.tz = alloc_array<float>(nv);
+        m.tw = alloc_array<float>(nv);
+        ok = ok && m.tx && m.ty && m.tz && m.tw;
     }
     m.indices = alloc_array<uint32_t>(nt * 3 >= nt ? nt * 3 : SIZE_MAX);
     ok = ok && m.indices;
@@ -294,6 +303,25 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             if (uvs) {
                 m.u[base + i] = am->mTextureCoords[0][i].x;
                 m.v[base + i] = am->mTextureCoords[0][i].y;
+            }
+            if (tangents) {
+                // A tangent is a surface direction: it goes through the
+                // transform itself, as the bitangent does; the sign is the
+                // handedness of (n, t, b) after the transform (assimp's glTF
+                // importer stores b = w cross(n, t)).
+                aiVector3D n = am->mNormals[i], tg = am->mTangents[i], b = am->mBitangents[i];
+                if (!in.identity) {
+                    n = normal_matrix * n;
+                    tg = linear * tg;
+                    b = linear * b;
+                }
+                float len = tg.Length();
+                if (len > 0.0f && std::isfinite(len))
+                    tg /= len;
+                m.tx[base + i] = tg.x;
+                m.ty[base + i] = tg.y;
+                m.tz[base + i] = tg.z;
+                m.tw[base + i] = ((n ^ tg) * b) < 0.0f ? -1.0f : 1.0f;
             }
         }
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
@@ -349,7 +377,7 @@ bg_status import_guarded(const char *path, unsigned flags, bg_mesh *out, char *e
 
 struct wire_header {
     int32_t status;
-    int32_t has_normals, has_uvs;
+    int32_t has_normals, has_uvs, has_tangents;
     uint64_t vertex_count, triangle_count, mesh_count, dropped;
     char err[512];
 };
@@ -440,13 +468,15 @@ size_t child_memory_cap(const char *path)
     }
     h.has_normals = m.nx != nullptr;
     h.has_uvs = m.u != nullptr;
+    h.has_tangents = m.tx != nullptr;
     h.vertex_count = m.vertex_count;
     h.triangle_count = m.triangle_count;
     h.mesh_count = m.mesh_count;
     h.dropped = m.dropped_primitives;
     bool ok = write_all(fd, &h, sizeof h);
     size_t nv = m.vertex_count * sizeof(float);
-    const float *arrays[] = {m.px, m.py, m.pz, m.nx, m.ny, m.nz, m.u, m.v};
+    const float *arrays[] = {m.px, m.py, m.pz, m.nx, m.ny, m.nz, m.u, m.v,
+                             m.tx, m.ty, m.tz, m.tw};
     for (const float *a : arrays)
         if (ok && a)
             ok = write_all(fd, a, nv);
@@ -490,9 +520,11 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
             m.mesh_count = h.mesh_count;
             m.dropped_primitives = h.dropped;
             size_t nv = m.vertex_count;
-            float **arrays[] = {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v};
-            for (int k = 0; k < 8 && got; ++k) {
-                if ((k >= 3 && k < 6 && !h.has_normals) || (k >= 6 && !h.has_uvs))
+            float **arrays[] = {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v,
+                                &m.tx, &m.ty, &m.tz, &m.tw};
+            for (int k = 0; k < 12 && got; ++k) {
+                if ((k >= 3 && k < 6 && !h.has_normals) || (k >= 6 && k < 8 && !h.has_uvs) ||
+                    (k >= 8 && !h.has_tangents))
                     continue;
                 *arrays[k] = alloc_array<float>(nv);
                 if (!*arrays[k]) {
@@ -586,6 +618,10 @@ void bg_mesh_free(bg_mesh *mesh)
     std::free(mesh->nz);
     std::free(mesh->u);
     std::free(mesh->v);
+    std::free(mesh->tx);
+    std::free(mesh->ty);
+    std::free(mesh->tz);
+    std::free(mesh->tw);
     std::free(mesh->indices);
     std::memset(mesh, 0, sizeof *mesh);
 }
