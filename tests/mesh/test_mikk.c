@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh/mesh_uv.h"
 #include "mesh/mikktspace.h"
 #include "mikk_cases.h"
 #include "mikk_expected.h"
@@ -231,6 +232,29 @@ static void test_encode_decode(void)
     printf("encode/decode round trip: max %.2g deg (float-rounded comparison)\n", worst);
 }
 
+/* UV islands: by shared UV edges, not by vertex index */
+static void test_islands(void)
+{
+    static mc_mesh a;
+    uint32_t isl[MC_MAXT];
+    static const size_t expect[MC_COUNT] = {
+        [MC_CURVED] = 1, [MC_UNWELDED] = 1, [MC_MIRRORED] = 1, [MC_ALTERNATING] = 1,
+        /* two fans meeting at one vertex only, and the strip */
+        [MC_SPLIT_FAN] = 3,
+        /* the patch (zero-area triangles included: their edges are proper),
+         * the two triangles of the one-point island (no edge of non-zero UV
+         * length joins them) and the degenerate triangle with UVs of its own */
+        [MC_ZERO_UV] = 4};
+    for (int id = 0; id < MC_COUNT; id++) {
+        mc_build(id, &a);
+        size_t n = mesh_uv_islands(a.nt, a.ix, a.u, a.v, isl);
+        CHECK(n == expect[id], "%s: %zu UV islands, expected %zu", a.name, n, expect[id]);
+        if (id == MC_SPLIT_FAN)
+            CHECK(isl[0] == isl[2] && isl[3] == isl[5] && isl[0] != isl[3] && isl[6] == isl[9],
+                  "split fan: island labels");
+    }
+}
+
 static void test_errors(void)
 {
     static mc_mesh a;
@@ -253,6 +277,7 @@ int main(void)
     test_against_reference();
     test_rules();
     test_encode_decode();
+    test_islands();
     test_errors();
     printf("%s\n", failures ? "FAILED" : "ok");
     return failures ? 1 : 0;
