@@ -4,6 +4,7 @@
 // command line would be undefined behaviour, and assimp allocates freely.
 #include "bumpgrad/mesh.h"
 
+#include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <algorithm>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -572,9 +574,86 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
     return BG_OK;
 }
 
+bg_status export_scene(const char *path, const char *format_id, const bg_mesh *m, char *err,
+                       size_t errlen)
+{
+    if (m->vertex_count > UINT32_MAX || m->triangle_count > UINT32_MAX) {
+        set_error(err, errlen, "'%s': mesh too large to export", path);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    const unsigned nv = static_cast<unsigned>(m->vertex_count);
+    const unsigned nt = static_cast<unsigned>(m->triangle_count);
+    // The scene owns everything below (aiScene's destructor deletes its
+    // meshes, materials and nodes, aiMesh's its arrays).
+    std::unique_ptr<aiScene> scene(new aiScene());
+    scene->mRootNode = new aiNode();
+    scene->mRootNode->mNumMeshes = 1;
+    scene->mRootNode->mMeshes = new unsigned[1]{0};
+    scene->mNumMaterials = 1;
+    scene->mMaterials = new aiMaterial *[1] { new aiMaterial() };
+    scene->mNumMeshes = 1;
+    scene->mMeshes = new aiMesh *[1] { new aiMesh() };
+    aiMesh *am = scene->mMeshes[0];
+    am->mMaterialIndex = 0;
+    am->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+    am->mNumVertices = nv;
+    am->mVertices = new aiVector3D[nv];
+    if (m->nx)
+        am->mNormals = new aiVector3D[nv];
+    if (m->u) {
+        am->mTextureCoords[0] = new aiVector3D[nv];
+        am->mNumUVComponents[0] = 2;
+    }
+    for (unsigned i = 0; i < nv; ++i) {
+        am->mVertices[i] = aiVector3D(m->px[i], m->py[i], m->pz[i]);
+        if (m->nx)
+            am->mNormals[i] = aiVector3D(m->nx[i], m->ny[i], m->nz[i]);
+        if (m->u)
+            am->mTextureCoords[0][i] = aiVector3D(m->u[i], m->v[i], 0.0f);
+    }
+    am->mNumFaces = nt;
+    am->mFaces = new aiFace[nt];
+    for (unsigned t = 0; t < nt; ++t) {
+        aiFace &f = am->mFaces[t];
+        f.mNumIndices = 3;
+        f.mIndices = new unsigned[3];
+        for (unsigned c = 0; c < 3; ++c)
+            f.mIndices[c] = m->indices[3 * static_cast<size_t>(t) + c];
+    }
+    Assimp::Exporter exporter;
+    if (exporter.Export(scene.get(), format_id, path) != AI_SUCCESS) {
+        const char *why = exporter.GetErrorString();
+        set_error(err, errlen, "'%s': the mesh exporter (assimp, %s) failed: %s", path, format_id,
+                  why && *why ? why : "unknown error");
+        return BG_ERR_IO;
+    }
+    return BG_OK;
+}
+
 } // namespace
 
 extern "C" {
+
+bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh *mesh, char *err,
+                         size_t errlen)
+{
+    if (!path || !format_id || !mesh || !mesh->px || !mesh->indices) {
+        set_error(err, errlen, "bg_mesh_export: NULL argument");
+        return BG_ERR_NULL_POINTER;
+    }
+    try {
+        return export_scene(path, format_id, mesh, err, errlen);
+    } catch (const std::bad_alloc &) {
+        set_error(err, errlen, "'%s': out of memory while exporting", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        set_error(err, errlen, "'%s': the mesh exporter failed (%s)", path, e.what());
+        return BG_ERR_IO;
+    } catch (...) {
+        set_error(err, errlen, "'%s': the mesh exporter failed", path);
+        return BG_ERR_IO;
+    }
+}
 
 bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
                           size_t errlen)
