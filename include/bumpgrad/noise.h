@@ -17,7 +17,17 @@
  * part is 0) and the noise along it is piecewise constant at 1e5 and exactly
  * on lattice planes from 2^23 (about 8.4e6) up. See docs/STABILITY.md.
  *
- * NaN or Inf in any coordinate gives NaN value and NaN gradient.
+ * NaN or Inf in any coordinate gives NaN value and NaN gradient (the NaN rule).
+ * So does a finite coordinate whose octave scaling overflows: octave i samples
+ * at lacunarity^i * p, which is Inf once |p| > bg_fractal_max_coordinate()
+ * (docs/STABILITY.md, "Octave overflow").
+ *
+ * Parameters: bg_fractal_validate() is the one definition of a usable
+ * descriptor. Batch calls run it once per call and return its status, writing
+ * nothing on failure. Single-point calls, which cannot return a status, give
+ * NaN (value and every gradient component) for a descriptor that is NULL or out
+ * of range; a descriptor that is in range but fails only the overflow check
+ * (BG_ERR_OVERFLOW) is not caught per point: its results may be Inf or NaN.
  *
  * All functions are reentrant and thread-safe (no state besides constant tables).
  */
@@ -52,7 +62,8 @@ typedef enum bg_function {
 #define BG_DEFAULT_CENTRAL_STEP 2e-4f
 
 /** Fractal sum parameters. Octave i (0-based) samples noise at
- *  lacunarity^i * p with weight gain^i. */
+ *  lacunarity^i * p with weight gain^i; both factors are built in float by
+ *  repeated multiplication (the double entry points: in double). */
 typedef struct bg_fractal {
     bg_function function;
     int octaves;      /**< 1..BG_MAX_OCTAVES (ignored for BG_FUNC_NOISE) */
@@ -63,8 +74,47 @@ typedef struct bg_fractal {
 /** Defaults: 6 octaves, lacunarity 2, gain 0.5. */
 BG_API bg_fractal bg_fractal_default(bg_function function);
 
-/** BG_OK if `f` is in range, else BG_ERR_INVALID_ARGUMENT (or BG_ERR_NULL_POINTER). */
+/** Check a fractal descriptor: the one rule every entry point applies.
+ *  @return BG_OK;
+ *   BG_ERR_NULL_POINTER if `f` is NULL;
+ *   BG_ERR_INVALID_ARGUMENT if `function` is not a bg_function, or (fBm and
+ *   turbulence) `octaves` is outside 1..BG_MAX_OCTAVES, `lacunarity` is not
+ *   finite and > 0 or `gain` is not finite;
+ *   BG_ERR_OVERFLOW if the octave scaling overflows float for some octave
+ *   i < octaves: lacunarity^i, gain^i or gain^i * lacunarity^i (as the kernels
+ *   compute them in float) is not finite, or a sum could overflow:
+ *   2.1 * sum_i |gain^i| or 9 * sum_i |gain^i lacunarity^i| above FLT_MAX (2.1
+ *   and 9 bound |noise| and each |d noise / dx| with a margin for rounding).
+ *   Accepted descriptors give finite values and gradients for every finite
+ *   coordinate up to bg_fractal_max_coordinate(f, 1) (e.g. `gain` 3e38 with 32
+ *   octaves, or `lacunarity` 3e38 with 2 octaves, are BG_ERR_OVERFLOW). Plain
+ *   noise (BG_FUNC_NOISE) ignores the other fields. Cost: one pass over the
+ *   octaves (about 130 instructions for 6 octaves, 540 for 32); the batch
+ *   calls run it once per call. */
 BG_API bg_status bg_fractal_validate(const bg_fractal *f);
+
+/** Largest |coordinate| for which every octave of `f` sees a finite point, when
+ *  the coordinate is first multiplied by `frequency` in float, as the fused
+ *  height calls do with bg_height.frequency (pass 1 for the bg_fractal3* calls,
+ *  which take noise-space coordinates). Precisely: the largest float c such that
+ *  (c * |frequency|) * lacunarity^i, rounded in float at each product, is finite
+ *  for every octave i < octaves. Up to c every coordinate gives finite results
+ *  (for an accepted `f`); above it some octave samples at Inf, so the value and
+ *  gradient are NaN under the NaN rule (the footprint calls: unless the
+ *  footprint drops that octave). The bound holds per axis. The central-
+ *  difference calls also evaluate at q +- h, which adds h to the noise-space
+ *  coordinate q (no change at such magnitudes for a step below the float
+ *  spacing, as the default is). E.g. 6-octave turbulence with lacunarity 2:
+ *  FLT_MAX / 32 rounded down, about 1.0634e37.
+ *  @return that bound (FLT_MAX if every finite coordinate is safe, e.g.
+ *   `frequency` 0), or NaN if bg_fractal_validate(f) is not BG_OK or
+ *   `frequency` is not finite. */
+BG_API float bg_fractal_max_coordinate(const bg_fractal *f, float frequency);
+
+/** The same bound for the double entry points (bg_fractal3d*), whose octave
+ *  factors and products are double: the largest double c such that
+ *  (c * |frequency|) * lacunarity^i is finite in double for every octave. */
+BG_API double bg_fractal_max_coordinated(const bg_fractal *f, double frequency);
 
 /* ---- single points ------------------------------------------------------ */
 
@@ -82,15 +132,20 @@ BG_API double bg_noise3d(double x, double y, double z);
 /** Double noise value and analytic gradient. */
 BG_API double bg_noise3d_grad(double x, double y, double z, bg_dvec3 *grad);
 
-/** Fractal value (noise, fBm or turbulence) at (x,y,z). `f` must be valid. */
+/** Fractal value (noise, fBm or turbulence) at (x,y,z). `f` should pass
+ *  bg_fractal_validate(); NULL or out of range (any check but the overflow one)
+ *  gives NaN. */
 BG_API float bg_fractal3(const bg_fractal *f, float x, float y, float z);
 
 /** Fractal value and analytic gradient. For turbulence the gradient of octave i
  *  is sign(noise_i) * grad noise_i; at a zero crossing of any octave the sum has a
- *  crease where the gradient is discontinuous (sign(0) is taken as +1). */
+ *  crease where the gradient is discontinuous (sign(0) is taken as +1).
+ *  `grad` must not be NULL. A NULL or out-of-range `f` gives NaN value and
+ *  gradient, as for bg_fractal3. */
 BG_API float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *grad);
 
-/** Fractal value and central-difference gradient with step `h` (> 0): each
+/** Fractal value and central-difference gradient with step `h` (finite, > 0;
+ *  otherwise, or for a NULL or out-of-range `f`, NaN value and gradient): each
  *  component is (F(x+h) - F(x-h)) / ((x+h) - (x-h)), dividing by the step
  *  actually taken in floating point, not by the nominal 2h. 7 evaluations.
  *  If h is below the float spacing at x, so that x + h == x - h, that component
@@ -98,7 +153,8 @@ BG_API float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg
 BG_API float bg_fractal3_grad_central(const bg_fractal *f, float h, float x, float y, float z,
                                       bg_vec3 *grad);
 
-/** Double-precision fractal entry points (float parameters widened exactly). */
+/** Double-precision fractal entry points (float parameters widened exactly);
+ *  invalid `f` or `h` as for the float calls: NaN. */
 BG_API double bg_fractal3d(const bg_fractal *f, double x, double y, double z);
 BG_API double bg_fractal3d_grad(const bg_fractal *f, double x, double y, double z, bg_dvec3 *grad);
 BG_API double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x, double y, double z,
@@ -109,26 +165,48 @@ BG_API double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x,
  * No alignment is required. Output arrays must not overlap inputs, except that
  * an output may be exactly the same array as an input. Single-threaded and
  * reentrant; the ISA chosen by bg_isa_active() is used, and every ISA gives
- * the same bits as the scalar kernel. */
+ * the same bits as the scalar kernel.
+ *
+ * Every batch call (here and in surfgrad.h) has one contract:
+ *  - n = 0: nothing is read (any pointer may be NULL, the descriptor is not
+ *    looked at) and the result is BG_OK;
+ *  - otherwise, checked once per call before any output is written, in this
+ *    order: BG_ERR_NULL_POINTER if the descriptor or a required array is NULL
+ *    (only arrays documented as optional may be); then the descriptor's
+ *    validate status (bg_fractal_validate, bg_height_validate), then the other
+ *    arguments (BG_ERR_INVALID_ARGUMENT: an unknown method, a step that is not
+ *    finite and > 0);
+ *  - on any status but BG_OK no output element has been written.
+ * Point values are never refused: NaN/Inf coordinates give NaN results (the
+ * NaN rule above). The checks cost one pass over the octaves per call, not per
+ * point. */
 
-BG_API void bg_noise3_batch(const float *x, const float *y, const float *z, size_t n, float *value);
+/** Noise values. @return BG_OK or BG_ERR_NULL_POINTER. */
+BG_API bg_status bg_noise3_batch(const float *x, const float *y, const float *z, size_t n,
+                                 float *value);
 
-/** `value` may be NULL when only the gradient is wanted. */
-BG_API void bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n,
-                                 float *value, float *gx, float *gy, float *gz);
+/** Noise values and analytic gradients; `value` may be NULL when only the
+ *  gradient is wanted. @return BG_OK or BG_ERR_NULL_POINTER. */
+BG_API bg_status bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n,
+                                      float *value, float *gx, float *gy, float *gz);
 
-BG_API void bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
-                              size_t n, float *value);
+/** Fractal values. @return BG_OK, BG_ERR_NULL_POINTER or the status of
+ *  bg_fractal_validate(f) (BG_ERR_INVALID_ARGUMENT, BG_ERR_OVERFLOW). */
+BG_API bg_status bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y,
+                                   const float *z, size_t n, float *value);
 
-/** `value` may be NULL. */
-BG_API void bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y,
-                                   const float *z, size_t n, float *value, float *gx, float *gy,
-                                   float *gz);
+/** Fractal values and analytic gradients; `value` may be NULL. Statuses as
+ *  bg_fractal3_batch. */
+BG_API bg_status bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y,
+                                        const float *z, size_t n, float *value, float *gx,
+                                        float *gy, float *gz);
 
-/** `value` may be NULL. */
-BG_API void bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
-                                           const float *y, const float *z, size_t n, float *value,
-                                           float *gx, float *gy, float *gz);
+/** Fractal values and central-difference gradients with step `h`; `value` may
+ *  be NULL. Statuses as bg_fractal3_batch, and BG_ERR_INVALID_ARGUMENT if `h`
+ *  is not finite and > 0. */
+BG_API bg_status bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
+                                                const float *y, const float *z, size_t n,
+                                                float *value, float *gx, float *gy, float *gz);
 
 /* ---- footprint-aware evaluation ("model no more than a scene needs") -------
  * A sample that covers a footprint of width w (in noise-space units: the pixel's
@@ -142,26 +220,30 @@ BG_API void bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const f
  * the same bits as the unfiltered call. */
 
 /** Weight c_i of octave `octave` (0-based) for footprint `footprint` (>= 0, noise
- *  space) and lacunarity `lacunarity`. NaN footprint: 1 (no filtering). */
+ *  space) and lacunarity `lacunarity`. NaN footprint: 1 (no filtering).
+ *  `octave` outside 0..BG_MAX_OCTAVES-1 or `lacunarity` not finite and > 0: NaN. */
 BG_API float bg_octave_weight(float footprint, float lacunarity, int octave);
 
 /** Effective octave count for lacunarity 2: sum of the weights c_i of octaves
  *  0..max_octaves-1 (fractional when the last kept octave is fading), e.g. 6 for a
- *  tiny footprint, about 2.5 for footprint 1/16, 0 at footprint >= 1/2. */
+ *  tiny footprint, about 2.5 for footprint 1/16, 0 at footprint >= 1/2.
+ *  `max_octaves` outside 0..BG_MAX_OCTAVES: NaN. */
 BG_API float bg_octaves_for_footprint(float footprint, int max_octaves);
 
 /** Fractal value and analytic gradient with per-sample footprints (noise space):
  *  octave i is weighted by c_i as above and skipped where c_i = 0 for every
- *  sample. `value` may be NULL. Uses the dispatched noise kernel per octave. */
-BG_API void bg_fractal3_grad_footprint_batch(const bg_fractal *f, const float *footprint,
-                                             const float *x, const float *y, const float *z,
-                                             size_t n, float *value, float *gx, float *gy,
-                                             float *gz);
+ *  sample. `value` may be NULL; `footprint` is required. Uses the dispatched
+ *  noise kernel per octave. Statuses as bg_fractal3_batch. */
+BG_API bg_status bg_fractal3_grad_footprint_batch(const bg_fractal *f, const float *footprint,
+                                                  const float *x, const float *y, const float *z,
+                                                  size_t n, float *value, float *gx, float *gy,
+                                                  float *gz);
 
-/** Double batches (scalar loops over the double entry points). `value` may be NULL. */
-BG_API void bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const double *y,
-                                    const double *z, size_t n, double *value, double *gx,
-                                    double *gy, double *gz);
+/** Double batches (scalar loops over the double entry points). `value` may be
+ *  NULL. Statuses as bg_fractal3_batch. */
+BG_API bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const double *y,
+                                         const double *z, size_t n, double *value, double *gx,
+                                         double *gy, double *gz);
 
 #ifdef __cplusplus
 }

@@ -31,7 +31,8 @@ typedef struct bg_vdb_writer bg_vdb_writer;
  *  `gradient_name` (NULL: "gradient") name the grids; the gradient grid is
  *  written only if some voxel was added with a gradient.
  *  BG_ERR_INVALID_ARGUMENT, BG_ERR_OUT_OF_MEMORY, BG_OK, or BG_ERR_IO if the
- *  I/O module cannot be loaded (the reason is printed on stderr; docs/IO.md). */
+ *  I/O module cannot be loaded (nothing is printed: bg_io_available in io.h
+ *  gives the reason, and a program calls it before starting work). */
 BG_API bg_status bg_vdb_writer_create(double voxel_size, const double origin[3],
                                       const char *height_name, const char *gradient_name,
                                       bg_vdb_writer **out);

@@ -13,7 +13,6 @@
 #include "common/safe_file.h"
 #include "common/tool.h"
 #include "height_source.h"
-#include "compat.h" /* TEMPORARY: see compat.h */
 
 /* Exit codes: 0 success, 1 runtime failure (I/O error, out of memory),
  * 2 bad input or usage (the message names the argument, file, line, column). */

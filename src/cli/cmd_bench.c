@@ -141,7 +141,7 @@ static void job_run(const bench_job *j, size_t b, size_t e)
  * A team that lives for the whole command, so that a timed run pays two barrier
  * crossings and no thread creation; the caller is worker 0. The library batch
  * calls are single-threaded and reentrant, so each worker calls the kernel on its
- * own contiguous slice. (cli_parallel_for would create threads per call and
+ * own contiguous slice. (bgt_parallel_for would create threads per call and
  * chooses its own chunking; here the timed region must be just the work.) */
 typedef struct bench_team {
     int threads;
@@ -681,7 +681,7 @@ int cmd_bench(int argc, char **argv)
     }
     size_t n = samples > 0 ? (size_t)samples : quick ? BENCH_QUICK_SAMPLES : BENCH_DEFAULT_SAMPLES;
     int nruns = runs > 0 ? (int)runs : quick ? BENCH_QUICK_RUNS : BENCH_DEFAULT_RUNS;
-    int nthreads = threads > 0 ? (int)threads : cli_threads_default();
+    int nthreads = threads > 0 ? (int)threads : bgt_threads_default();
     if (nthreads < 1)
         nthreads = 1;
 

@@ -147,7 +147,7 @@ int cmd_eval(int argc, char **argv)
     if (!dbl && !((float)step > 0))
         return cli_usage_error(cmd, "--step %g is zero in float precision", step);
     if (threads == 0)
-        threads = cli_threads_default();
+        threads = bgt_threads_default();
 
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);

@@ -57,8 +57,8 @@ int cmd_perturb(int argc, char **argv)
     bg_perturb_method method = BG_PERTURB_SURFGRAD;
     int allow_nonfinite = 0, threads = 0, rc;
     long l;
-    cli_height h;
-    cli_height_init(&h);
+    bgt_height h;
+    bgt_height_init(&h);
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
         if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
@@ -95,10 +95,12 @@ int cmd_perturb(int argc, char **argv)
         return cli_usage_error(cmd, "--input is required (\"-\" for standard input)");
     if (!out_path)
         return cli_usage_error(cmd, "--output is required (\"-\" for standard output)");
-    if ((rc = cli_height_open(cmd, &h)))
-        return rc;
+    bgt_err herr;
+    bg_status hs = bgt_height_open(&h, &herr);
+    if (hs != BG_OK)
+        return cli_report(cmd, hs, &herr);
     if (threads == 0)
-        threads = cli_threads_default();
+        threads = bgt_threads_default();
 
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);

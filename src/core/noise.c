@@ -2,9 +2,11 @@
 /* Public noise entry points. Single points run the scalar kernel (the template
  * with one lane), so they give the same bits as every batch ISA; batches go
  * through the dispatch table. Double points run the same template in double. */
+#include <float.h>
 #include <math.h>
 #include "bumpgrad/noise.h"
 #include "kernels/kernels.h"
+#include "params.h"
 
 bg_fractal bg_fractal_default(bg_function function)
 {
@@ -16,16 +18,102 @@ bg_status bg_fractal_validate(const bg_fractal *f)
 {
     if (!f)
         return BG_ERR_NULL_POINTER;
-    if (f->function != BG_FUNC_NOISE && f->function != BG_FUNC_FBM &&
-        f->function != BG_FUNC_TURBULENCE)
+    if (!bg_fractal_in_range(f))
         return BG_ERR_INVALID_ARGUMENT;
-    if (f->function == BG_FUNC_NOISE)
-        return BG_OK;
-    if (f->octaves < 1 || f->octaves > BG_MAX_OCTAVES)
-        return BG_ERR_INVALID_ARGUMENT;
-    if (!(f->lacunarity > 0) || !isfinite(f->lacunarity) || !isfinite(f->gain))
-        return BG_ERR_INVALID_ARGUMENT;
-    return BG_OK;
+    double sv, sg;
+    float fmax;
+    return bg_fractal_octave_sums(f, &sv, &sg, &fmax) ? BG_OK : BG_ERR_OVERFLOW;
+}
+
+/* For a fractal in range: the octave factors freq_i = L^i and amp_i = G^i built
+ * in float by repeated multiplication, exactly as the kernels build them
+ * (src/kernels/bump_tmpl.c, fractal_fp_vec). Returns 0 if one of freq_i,
+ * amp_i, amp_i * freq_i is not finite, or if the sum over the octaves could
+ * overflow: BG_NOISE_VALUE_BOUND * sum |amp_i| or BG_NOISE_GRAD_BOUND * sum
+ * |amp_i freq_i| above FLT_MAX. Else 1, with those sums and the largest freq_i.
+ * The loop does no test: an Inf amp_i or freq_i makes a float sum Inf, or NaN
+ * where it meets a factor that underflowed to 0, and both fail the final
+ * comparison; freq_i is monotonic (rounding is), so the largest is the last one
+ * for L >= 1 and freq_0 = 1 otherwise. A few flops per octave (one check per
+ * batch call, bench figures in the commit message). */
+int bg_fractal_octave_sums(const bg_fractal *f, double *sum_amp, double *sum_amp_freq,
+                           float *max_freq)
+{
+    int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
+    float amp = 1, freq = 1, last = 1, sv = 0, sg = 0;
+    const float gain = f->gain, lac = f->lacunarity;
+    for (int i = 0; i < octaves; i++) {
+        sv += fabsf(amp);
+        sg += fabsf(amp * freq);
+        last = freq;
+        amp *= gain;
+        freq *= lac;
+    }
+    float top = lac >= 1 ? last : 1;
+    if (!(BG_NOISE_VALUE_BOUND * sv <= FLT_MAX) || !(BG_NOISE_GRAD_BOUND * sg <= FLT_MAX) ||
+        !(top <= FLT_MAX))
+        return 0;
+    *sum_amp = sv, *sum_amp_freq = sg, *max_freq = top;
+    return 1;
+}
+
+/* Largest float q >= 0 with q * fmax finite in float (round to nearest). */
+static float max_unscaled(float fmax)
+{
+    float q = FLT_MAX / fmax; /* fmax >= 1: no overflow, within an ulp or two */
+    while (q > 0 && !isfinite(q * fmax))
+        q = nextafterf(q, 0);
+    while (q < FLT_MAX && isfinite(nextafterf(q, INFINITY) * fmax))
+        q = nextafterf(q, INFINITY);
+    return q;
+}
+
+float bg_fractal_max_coordinate(const bg_fractal *f, float frequency)
+{
+    double sv, sg;
+    float top = 1;
+    if (bg_fractal_validate(f) != BG_OK || !isfinite(frequency) ||
+        !bg_fractal_octave_sums(f, &sv, &sg, &top))
+        return NAN;
+    float q = max_unscaled(top), fr = fabsf(frequency);
+    if (fr == 0 || FLT_MAX * fr <= q)
+        return FLT_MAX;
+    /* Largest p with p * fr (rounded) <= q: start from q / fr, then step. */
+    float p = q / fr;
+    if (!isfinite(p))
+        p = FLT_MAX;
+    while (p > 0 && !(p * fr <= q))
+        p = nextafterf(p, 0);
+    while (p < FLT_MAX && nextafterf(p, INFINITY) * fr <= q)
+        p = nextafterf(p, INFINITY);
+    return p;
+}
+
+double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
+{
+    if (bg_fractal_validate(f) != BG_OK || !isfinite(frequency))
+        return NAN;
+    /* The double kernel builds freq_i in double from the widened lacunarity. */
+    int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
+    double freq = 1, fmax = 1;
+    for (int i = 0; i < octaves; i++, freq *= f->lacunarity)
+        fmax = freq > fmax ? freq : fmax;
+    double q = DBL_MAX / fmax;
+    while (q > 0 && !isfinite(q * fmax))
+        q = nextafter(q, 0);
+    while (q < DBL_MAX && isfinite(nextafter(q, INFINITY) * fmax))
+        q = nextafter(q, INFINITY);
+    double fr = fabs(frequency);
+    if (fr == 0 || DBL_MAX * fr <= q)
+        return DBL_MAX;
+    double p = q / fr;
+    if (!isfinite(p))
+        p = DBL_MAX;
+    while (p > 0 && !(p * fr <= q))
+        p = nextafter(p, 0);
+    while (p < DBL_MAX && nextafter(p, INFINITY) * fr <= q)
+        p = nextafter(p, INFINITY);
+    return p;
 }
 
 float bg_noise3(float x, float y, float z)
@@ -98,39 +186,88 @@ double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x, double
     return v;
 }
 
-void bg_noise3_batch(const float *x, const float *y, const float *z, size_t n, float *value)
+/* Batches (noise.h): n = 0 reads nothing and is BG_OK; otherwise every
+ * required pointer and the parameters are checked once, before any output is
+ * written, so a failed call leaves the outputs untouched. */
+
+bg_status bg_noise3_batch(const float *x, const float *y, const float *z, size_t n, float *value)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!x || !y || !z || !value)
+        return BG_ERR_NULL_POINTER;
     bg_kernels()->noise3(x, y, z, n, value);
+    return BG_OK;
 }
 
-void bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n, float *value,
-                          float *gx, float *gy, float *gz)
+bg_status bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n,
+                               float *value, float *gx, float *gy, float *gz)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!x || !y || !z || !gx || !gy || !gz)
+        return BG_ERR_NULL_POINTER;
     bg_kernels()->noise3_grad(x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
 }
 
-void bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
-                       size_t n, float *value)
+bg_status bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
+                            size_t n, float *value)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!f || !x || !y || !z || !value)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_fractal_validate(f);
+    if (s != BG_OK)
+        return s;
     bg_kernels()->fractal3(f, x, y, z, n, value);
+    return BG_OK;
 }
 
-void bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
-                            size_t n, float *value, float *gx, float *gy, float *gz)
+bg_status bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y,
+                                 const float *z, size_t n, float *value, float *gx, float *gy,
+                                 float *gz)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!f || !x || !y || !z || !gx || !gy || !gz)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_fractal_validate(f);
+    if (s != BG_OK)
+        return s;
     bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
 }
 
-void bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x, const float *y,
-                                    const float *z, size_t n, float *value, float *gx, float *gy,
-                                    float *gz)
+bg_status bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
+                                         const float *y, const float *z, size_t n, float *value,
+                                         float *gx, float *gy, float *gz)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!f || !x || !y || !z || !gx || !gy || !gz)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_fractal_validate(f);
+    if (s != BG_OK)
+        return s;
+    if (!bg_central_step_ok(h))
+        return BG_ERR_INVALID_ARGUMENT;
     bg_kernels()->fractal3_grad_central(f, h, x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
 }
 
-void bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const double *y,
-                             const double *z, size_t n, double *value, double *gx, double *gy,
-                             double *gz)
+bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const double *y,
+                                  const double *z, size_t n, double *value, double *gx,
+                                  double *gy, double *gz)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!f || !x || !y || !z || !gx || !gy || !gz)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_fractal_validate(f);
+    if (s != BG_OK)
+        return s;
     bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
 }

@@ -11,6 +11,7 @@ const char *bg_status_string(bg_status s)
     case BG_ERR_OUT_OF_MEMORY: return "out of memory";
     case BG_ERR_IO: return "input/output error";
     case BG_ERR_FORMAT: return "malformed input";
+    case BG_ERR_OVERFLOW: return "parameters overflow the float range (octave scaling)";
     }
     return "unknown status";
 }

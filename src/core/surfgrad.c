@@ -2,13 +2,21 @@
 /* Public surface-gradient entry points (Mikkelsen 2010, eq. 2 and 4, Listing 3).
  * The perturbations run the kernel template (one lane here), so single points,
  * batches and every ISA share one implementation of the degenerate-input rules. */
+#include <float.h>
 #include <math.h>
 #include "bumpgrad/surfgrad.h"
 #include "kernels/kernels.h"
+#include "params.h"
 
+/* An unknown method is a caller's error, not a degenerate input: NaN in every
+ * component, which no valid result can be (surfgrad.h). */
 bg_vec3 bg_perturb(bg_perturb_method method, bg_vec3 n, bg_vec3 g)
 {
     bg_vec3 r;
+    if (!bg_perturb_method_ok(method)) {
+        r.x = r.y = r.z = NAN;
+        return r;
+    }
     bg_kernels_c.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
     return r;
 }
@@ -16,6 +24,10 @@ bg_vec3 bg_perturb(bg_perturb_method method, bg_vec3 n, bg_vec3 g)
 bg_dvec3 bg_perturbd(bg_perturb_method method, bg_dvec3 n, bg_dvec3 g)
 {
     bg_dvec3 r;
+    if (!bg_perturb_method_ok(method)) {
+        r.x = r.y = r.z = NAN;
+        return r;
+    }
     bg_kernels_c64.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
     return r;
 }
@@ -66,11 +78,18 @@ double bg_angle_deg(bg_vec3 a, bg_vec3 b)
     return bg_angle_degd(ad, bd);
 }
 
-void bg_perturb_batch(bg_perturb_method method, const float *nx, const float *ny, const float *nz,
-                      const float *gx, const float *gy, const float *gz, size_t n, float *ox,
-                      float *oy, float *oz)
+bg_status bg_perturb_batch(bg_perturb_method method, const float *nx, const float *ny,
+                           const float *nz, const float *gx, const float *gy, const float *gz,
+                           size_t n, float *ox, float *oy, float *oz)
 {
+    if (n == 0)
+        return BG_OK;
+    if (!nx || !ny || !nz || !gx || !gy || !gz || !ox || !oy || !oz)
+        return BG_ERR_NULL_POINTER;
+    if (!bg_perturb_method_ok(method))
+        return BG_ERR_INVALID_ARGUMENT;
     bg_kernels()->perturb(method, nx, ny, nz, gx, gy, gz, n, ox, oy, oz);
+    return BG_OK;
 }
 
 bg_height bg_height_default(void)
@@ -88,19 +107,29 @@ bg_status bg_height_validate(const bg_height *h)
 {
     if (!h)
         return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(&h->fractal);
-    if (s != BG_OK)
-        return s;
-    if (!isfinite(h->amplitude) || !isfinite(h->frequency) || !(h->step >= 0) ||
-        !isfinite(h->step))
+    if (!bg_height_in_range(h))
         return BG_ERR_INVALID_ARGUMENT;
-    if (h->gradient != BG_GRADIENT_ANALYTIC && h->gradient != BG_GRADIENT_CENTRAL)
-        return BG_ERR_INVALID_ARGUMENT;
+    /* The fractal's own octave sums, then the height's scale on top of them, as
+     * the fused kernel applies it: q = f p, h = A F(q), grad = (A f) F'(q). */
+    double sv, sg;
+    float fmax;
+    if (!bg_fractal_octave_sums(&h->fractal, &sv, &sg, &fmax))
+        return BG_ERR_OVERFLOW;
+    float af = h->amplitude * h->frequency, top = fabsf(h->frequency) * fmax;
+    if (!isfinite(af) || !isfinite(top) ||
+        BG_NOISE_VALUE_BOUND * sv * fabs((double)h->amplitude) > FLT_MAX ||
+        BG_NOISE_GRAD_BOUND * sg * fabs((double)af) > FLT_MAX)
+        return BG_ERR_OVERFLOW;
     return BG_OK;
 }
 
 float bg_height_eval(const bg_height *h, bg_vec3 p, bg_vec3 *grad)
 {
+    if (!bg_height_in_range(h)) {
+        if (grad)
+            grad->x = grad->y = grad->z = NAN;
+        return NAN;
+    }
     /* Same arithmetic, in the same order, as the fused kernel (q = f p, grad = (A f) F'). */
     float q[3] = {p.x * h->frequency, p.y * h->frequency, p.z * h->frequency};
     float v, g[3];
@@ -110,14 +139,34 @@ float bg_height_eval(const bg_height *h, bg_vec3 p, bg_vec3 *grad)
     else
         bg_kernels_c.fractal3_grad(&h->fractal, &q[0], &q[1], &q[2], 1, &v, &g[0], &g[1], &g[2]);
     float af = h->amplitude * h->frequency;
-    grad->x = af * g[0], grad->y = af * g[1], grad->z = af * g[2];
+    if (grad)
+        grad->x = af * g[0], grad->y = af * g[1], grad->z = af * g[2];
     return h->amplitude * v;
 }
 
-void bg_perturb_height_batch(const bg_height *h, bg_perturb_method method, const float *px,
-                             const float *py, const float *pz, const float *nx, const float *ny,
-                             const float *nz, size_t n, float *height, float *ox, float *oy,
-                             float *oz)
+bg_status bg_perturb_height_check(const bg_height *h, bg_perturb_method method,
+                                  const float *px, const float *py, const float *pz,
+                                  const float *nx, const float *ny, const float *nz, float *ox,
+                                  float *oy, float *oz)
 {
+    if (!h || !px || !py || !pz || !nx || !ny || !nz || !ox || !oy || !oz)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_height_validate(h);
+    if (s != BG_OK)
+        return s;
+    return bg_perturb_method_ok(method) ? BG_OK : BG_ERR_INVALID_ARGUMENT;
+}
+
+bg_status bg_perturb_height_batch(const bg_height *h, bg_perturb_method method, const float *px,
+                                  const float *py, const float *pz, const float *nx,
+                                  const float *ny, const float *nz, size_t n, float *height,
+                                  float *ox, float *oy, float *oz)
+{
+    if (n == 0)
+        return BG_OK;
+    bg_status s = bg_perturb_height_check(h, method, px, py, pz, nx, ny, nz, ox, oy, oz);
+    if (s != BG_OK)
+        return s;
     bg_kernels()->perturb_height(h, method, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+    return BG_OK;
 }

@@ -16,39 +16,10 @@
 #include <vector>
 
 #include "io_util.h"
+#include "common/tool.h"
 
 using namespace OIIO;
 
-bg_status bg_image_alloc(bg_image *img, int width, int height, int channels)
-{
-    if (!img)
-        return BG_ERR_NULL_POINTER;
-    img->width = img->height = img->channels = 0;
-    img->pixels = nullptr;
-    if (width <= 0 || height <= 0 || channels <= 0 || channels > 64)
-        return BG_ERR_INVALID_ARGUMENT;
-    size_t n = 0;
-    if (!bg_io_mul_size(static_cast<size_t>(width), static_cast<size_t>(height), &n) ||
-        !bg_io_mul_size(n, static_cast<size_t>(channels), &n) ||
-        !bg_io_mul_size(n, sizeof(float), &n))
-        return BG_ERR_OUT_OF_MEMORY;
-    img->pixels = static_cast<float *>(std::calloc(n / sizeof(float), sizeof(float)));
-    if (!img->pixels)
-        return BG_ERR_OUT_OF_MEMORY;
-    img->width = width;
-    img->height = height;
-    img->channels = channels;
-    return BG_OK;
-}
-
-void bg_image_free(bg_image *img)
-{
-    if (!img)
-        return;
-    std::free(img->pixels);
-    img->pixels = nullptr;
-    img->width = img->height = img->channels = 0;
-}
 
 static bg_status read_impl(const char *path, bg_image *out, char *err, size_t errlen)
 {
@@ -70,6 +41,16 @@ static bg_status read_impl(const char *path, bg_image *out, char *err, size_t er
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
         bg_io_set_error(err, errlen, "'%s': unsupported image shape %dx%dx%d with %d channels",
                         path, spec.width, spec.height, spec.depth, spec.nchannels);
+        return BG_ERR_FORMAT;
+    }
+    // The declared size decides the allocation: check it against the one cap
+    // first (a 442-byte TGA may declare 28018 x 65535 pixels). The float image
+    // and, for most formats, a native-format buffer of the same order.
+    bgt_err cap_err;
+    if (bgt_check_alloc(2.0 * spec.width * spec.height * spec.nchannels * sizeof(float),
+                        "reading the image", &cap_err) != BG_OK) {
+        bg_io_set_error(err, errlen, "'%s': %dx%d with %d channels: %s", path, spec.width,
+                        spec.height, spec.nchannels, cap_err.msg);
         return BG_ERR_FORMAT;
     }
     bg_image img;

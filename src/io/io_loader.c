@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* The public functions of the I/O shim (image.h, volume.h, mesh.h) as small
  * forwarders into the module that holds the C++ code (libbumpgrad_io_module.so),
- * loaded with dlopen on first use.
+ * loaded with dlopen on first use. Built twice from this file: the installed
+ * shared libbumpgrad-io.so (bumpgrad-io.pc, CMake bumpgrad::bumpgrad-io) and the
+ * static libbumpgrad_io.a that the command and the tests link.
  *
  * Why: Debian's OpenImageIO pulls in about 260 shared libraries (OpenCV,
  * ffmpeg, DCMTK, ...). Linked directly, loading and relocating them cost every
@@ -9,11 +11,14 @@
  * even `bumpgrad eval`, which never touches a file format. Behind dlopen only
  * the commands that read or write images, volumes or meshes pay for it.
  *
- * Where the module is looked up: $BUMPGRAD_IO_MODULE if set; else, for a
- * program inside the build tree (the command, the tests), the module built
- * next to it; else the installed one (LIBDIR/bumpgrad). */
-#define _GNU_SOURCE /* readlink and dlopen under -std=c11 */
+ * Where the module is looked up (include/bumpgrad/io.h): $BUMPGRAD_IO_MODULE if
+ * set; else relative to the object holding this code, found with dladdr (the
+ * shared library, or the program for the static copy): paths relative to it
+ * only, so a moved prefix and the build tree both work. Nothing here prints. */
+#define _GNU_SOURCE /* dladdr1, realpath and dlopen under -std=c11 */
 #include <dlfcn.h>
+#include <limits.h>
+#include <link.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,16 +26,47 @@
 #include <unistd.h>
 
 #include "bumpgrad/image.h"
+#include "bumpgrad/io.h"
 #include "bumpgrad/mesh.h"
 #include "bumpgrad/volume.h"
-#include "io_paths.h"
+#include "io_paths.h" /* relative paths only: BG_IO_MODULE_NAME, BG_IO_BINDIR_TO_LIBDIR, BG_IO_BUILD_SUBDIR */
 
 static void *module;
-static char load_error[2048];
+static char load_error[3072];
 static pthread_once_t load_once = PTHREAD_ONCE_INIT;
+/* Any object of this file: dladdr on its address names the file that holds the code. */
+static const char anchor = 0;
 
-static int try_open(const char *path)
+/* Append `src` to the string in dst (size bytes), truncating silently. Plain
+ * copies rather than snprintf: gcc's -Wformat-truncation flags every %s of a
+ * PATH_MAX buffer, and truncation is the intended behaviour here. */
+static void append(char *dst, size_t size, const char *src)
 {
+    size_t used = strnlen(dst, size);
+    while (*src && used + 1 < size)
+        dst[used++] = *src++;
+    if (used < size)
+        dst[used] = '\0';
+}
+
+/* Append a part to load_error, "; "-separated. */
+static void note(const char *a, const char *b)
+{
+    if (load_error[0])
+        append(load_error, sizeof load_error, "; ");
+    append(load_error, sizeof load_error, a);
+    if (b)
+        append(load_error, sizeof load_error, b);
+}
+
+/* dlopen `path` (if only_if_present, only when the file exists); 1 when loaded.
+ * A missing file is only noted by the caller's list of searched places, a
+ * present but unloadable one with dlerror (that is the message a user needs:
+ * e.g. a missing OpenImageIO). */
+static int try_open(const char *path, int only_if_present)
+{
+    if (only_if_present && access(path, F_OK) != 0)
+        return 0;
     /* RTLD_LOCAL: the module's OpenImageIO/OpenVDB/assimp symbols stay out of
      * the program's namespace. RTLD_NOW: a broken module fails here, at one
      * place with one message, not at some later call. */
@@ -38,52 +74,131 @@ static int try_open(const char *path)
     if (module)
         return 1;
     const char *e = dlerror();
-    size_t used = strlen(load_error);
-    snprintf(load_error + used, sizeof load_error - used, "%s%s", used ? "; " : "",
-             e ? e : path);
+    note(e ? e : path, NULL);
     return 0;
+}
+
+/* dst = a/b/c (c may be empty: then a/b), truncated to size. */
+static void join3(char *dst, size_t size, const char *a, const char *b, const char *c)
+{
+    if (!size)
+        return;
+    dst[0] = '\0';
+    append(dst, size, a);
+    append(dst, size, "/");
+    append(dst, size, b);
+    if (*c) {
+        append(dst, size, "/");
+        append(dst, size, c);
+    }
+}
+
+/* Folder of the file (shared library or program) that holds this code, in
+ * `dir` (PATH_MAX bytes); 0 if it cannot be found. */
+static int self_dir(char *dir)
+{
+    Dl_info info;
+    struct link_map *map = NULL;
+    char path[PATH_MAX];
+    path[0] = '\0';
+    if (dladdr1(&anchor, &info, (void **)&map, RTLD_DL_LINKMAP) && map && map->l_name &&
+        map->l_name[0]) {
+        /* A shared library: l_name is the path it was loaded from. */
+        if (!realpath(map->l_name, path)) {
+            path[0] = '\0';
+            append(path, sizeof path, map->l_name);
+        }
+    } else {
+        /* The main program (its link map has an empty name). */
+        ssize_t n = readlink("/proc/self/exe", path, sizeof path - 1);
+        path[n > 0 ? n : 0] = '\0';
+    }
+    char *slash = strrchr(path, '/');
+    if (!slash)
+        return 0;
+    *slash = '\0';
+    dir[0] = '\0';
+    append(dir, PATH_MAX, path[0] ? path : "/");
+    return 1;
 }
 
 static void load_module(void)
 {
     const char *env = getenv("BUMPGRAD_IO_MODULE");
     if (env && *env) {
-        try_open(env);
+        if (!try_open(env, 0))
+            note("the path came from $BUMPGRAD_IO_MODULE", NULL);
         return;
     }
-    char exe[4096];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    exe[n > 0 ? n : 0] = '\0';
-    const size_t root = strlen(BG_IO_BUILD_ROOT);
-    const int in_build_tree = n > 0 && strncmp(exe, BG_IO_BUILD_ROOT, root) == 0 && exe[root] == '/';
-    if (in_build_tree && try_open(BG_IO_BUILD_MODULE))
+    char dir[PATH_MAX], cand[PATH_MAX + 256], searched[2048] = "";
+    if (!self_dir(dir)) {
+        note("cannot tell where the running library or program is", NULL);
         return;
-    try_open(BG_IO_INSTALLED_MODULE);
+    }
+    /* 1: shared library installed in LIBDIR; 2: shared library in the build
+     * tree, next to the module; 3: a program installed in BINDIR. */
+    const char *const rel[] = {"bumpgrad", ".", BG_IO_BINDIR_TO_LIBDIR "/bumpgrad"};
+    for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
+        join3(cand, sizeof cand, dir, rel[i], BG_IO_MODULE_NAME);
+        if (try_open(cand, 1))
+            return;
+        if (searched[0])
+            append(searched, sizeof searched, ", ");
+        join3(searched + strlen(searched), sizeof searched - strlen(searched), dir, rel[i], "");
+    }
+    /* 4: a program in the build tree (src/cli/, tests/x/, ...): the build
+     * root's BG_IO_BUILD_SUBDIR is in the program's folder or a parent. */
+    char up[PATH_MAX];
+    up[0] = '\0';
+    append(up, sizeof up, dir);
+    for (int level = 0; level < 4 && up[0]; level++) {
+        join3(cand, sizeof cand, up, BG_IO_BUILD_SUBDIR, BG_IO_MODULE_NAME);
+        if (try_open(cand, 1))
+            return;
+        char *slash = strrchr(up, '/');
+        if (!slash)
+            break;
+        *slash = '\0';
+    }
+    append(searched, sizeof searched, ", and " BG_IO_BUILD_SUBDIR " in ");
+    append(searched, sizeof searched, dir);
+    append(searched, sizeof searched, " and its parents");
+    note(BG_IO_MODULE_NAME " not found in ", searched);
 }
 
-/* Address of `name` in the module, loading it first if `load` is set; NULL
- * (with the reason in load_error) if it cannot be had. */
+static int ensure_loaded(void)
+{
+    pthread_once(&load_once, load_module);
+    return module != NULL;
+}
+
+bg_status bg_io_available(char *err, size_t errlen)
+{
+    if (ensure_loaded())
+        return BG_OK;
+    const char *env = getenv("BUMPGRAD_IO_MODULE");
+    if (err && errlen)
+        snprintf(err, errlen, "the I/O module (OpenImageIO, OpenVDB, assimp) cannot be loaded: %s%s",
+                 load_error, env && *env ? "" : " (set BUMPGRAD_IO_MODULE to its path)");
+    return BG_ERR_IO;
+}
+
+/* Address of `name` in the module, loading it first if `load` is set; NULL if
+ * it cannot be had. Only the loading thread writes load_error (inside
+ * pthread_once), so a failed dlsym is reported by name, not through it. */
 static void *lookup(const char *name, int load)
 {
-    if (load)
-        pthread_once(&load_once, load_module);
-    else if (!module)
+    if (load ? !ensure_loaded() : !module)
         return NULL;
-    if (!module)
-        return NULL;
-    void *p = dlsym(module, name);
-    if (!p) {
-        const char *e = dlerror();
-        snprintf(load_error, sizeof load_error, "%s", e ? e : name);
-    }
-    return p;
+    return dlsym(module, name);
 }
 
-static bg_status unavailable(char *err, size_t errlen)
+static bg_status unavailable(const char *name, char *err, size_t errlen)
 {
+    if (!module)
+        return bg_io_available(err, errlen);
     if (err && errlen)
-        snprintf(err, errlen, "the I/O module (OpenImageIO, OpenVDB, assimp) cannot be loaded: %s "
-                 "(set BUMPGRAD_IO_MODULE to its path)", load_error);
+        snprintf(err, errlen, "the I/O module lacks %s (a module from another version?)", name);
     return BG_ERR_IO;
 }
 
@@ -99,43 +214,11 @@ static bg_status unavailable(char *err, size_t errlen)
 
 /* ---- images: allocation needs no module ---------------------------------- */
 
-bg_status bg_image_alloc(bg_image *img, int width, int height, int channels)
-{
-    if (!img)
-        return BG_ERR_NULL_POINTER;
-    img->width = img->height = img->channels = 0;
-    img->pixels = NULL;
-    if (width <= 0 || height <= 0 || channels <= 0 || channels > 64)
-        return BG_ERR_INVALID_ARGUMENT;
-    size_t n = (size_t)width;
-    if (n > (size_t)-1 / (size_t)height)
-        return BG_ERR_OUT_OF_MEMORY;
-    n *= (size_t)height;
-    if (n > (size_t)-1 / sizeof(float) / (size_t)channels)
-        return BG_ERR_OUT_OF_MEMORY;
-    img->pixels = calloc(n * (size_t)channels, sizeof(float));
-    if (!img->pixels)
-        return BG_ERR_OUT_OF_MEMORY;
-    img->width = width;
-    img->height = height;
-    img->channels = channels;
-    return BG_OK;
-}
-
-void bg_image_free(bg_image *img)
-{
-    if (!img)
-        return;
-    free(img->pixels); /* same libc allocator as the module's bg_image_alloc */
-    img->pixels = NULL;
-    img->width = img->height = img->channels = 0;
-}
-
 bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen)
 {
     bg_status (*f)(const char *, bg_image *, char *, size_t);
     GET(f, "bg_image_read", 1);
-    return f ? f(path, out, err, errlen) : unavailable(err, errlen);
+    return f ? f(path, out, err, errlen) : unavailable("bg_image_read", err, errlen);
 }
 
 bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
@@ -143,7 +226,7 @@ bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type ty
 {
     bg_status (*f)(const char *, const bg_image *, bg_pixel_type, int, char *, size_t);
     GET(f, "bg_image_write", 1);
-    return f ? f(path, img, type, srgb, err, errlen) : unavailable(err, errlen);
+    return f ? f(path, img, type, srgb, err, errlen) : unavailable("bg_image_write", err, errlen);
 }
 
 bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, const float rgb[3],
@@ -151,7 +234,7 @@ bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, cons
 {
     bg_status (*f)(bg_image *, int, int, const char *, const float *, int, char *, size_t);
     GET(f, "bg_image_draw_text", 1);
-    return f ? f(img, x, y, text, rgb, size, err, errlen) : unavailable(err, errlen);
+    return f ? f(img, x, y, text, rgb, size, err, errlen) : unavailable("bg_image_draw_text", err, errlen);
 }
 
 /* ---- volumes -------------------------------------------------------------- */
@@ -161,8 +244,10 @@ bg_status bg_vdb_writer_create(double voxel_size, const double origin[3], const 
 {
     bg_status (*f)(double, const double *, const char *, const char *, bg_vdb_writer **);
     GET(f, "bg_vdb_writer_create", 1);
+    /* No error buffer in this call: the reason is bg_io_available's message. */
     if (!f) {
-        fprintf(stderr, "bumpgrad: %s\n", load_error);
+        if (out)
+            *out = NULL;
         return BG_ERR_IO;
     }
     return f(voxel_size, origin, height_name, gradient_name, out);
@@ -197,7 +282,7 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
 {
     bg_status (*f)(const bg_vdb_writer *, const char *, char *, size_t);
     GET(f, "bg_vdb_writer_write", 1);
-    return f ? f(w, path, err, errlen) : unavailable(err, errlen);
+    return f ? f(w, path, err, errlen) : unavailable("bg_vdb_writer_write", err, errlen);
 }
 
 void bg_vdb_writer_free(bg_vdb_writer *w)
@@ -215,7 +300,7 @@ bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_hei
     GET(f, "bg_vdb_height_open", 1);
     if (!f && out)
         *out = NULL;
-    return f ? f(path, grid_name, out, err, errlen) : unavailable(err, errlen);
+    return f ? f(path, grid_name, out, err, errlen) : unavailable("bg_vdb_height_open", err, errlen);
 }
 
 void bg_vdb_height_close(bg_vdb_height *h)
@@ -251,7 +336,7 @@ bg_status bg_mesh_load(const char *path, bg_mesh *out, char *err, size_t errlen)
 {
     bg_status (*f)(const char *, bg_mesh *, char *, size_t);
     GET(f, "bg_mesh_load", 1);
-    return f ? f(path, out, err, errlen) : unavailable(err, errlen);
+    return f ? f(path, out, err, errlen) : unavailable("bg_mesh_load", err, errlen);
 }
 
 bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
@@ -259,7 +344,7 @@ bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *
 {
     bg_status (*f)(const char *, unsigned, bg_mesh *, char *, size_t);
     GET(f, "bg_mesh_load_ex", 1);
-    return f ? f(path, flags, out, err, errlen) : unavailable(err, errlen);
+    return f ? f(path, flags, out, err, errlen) : unavailable("bg_mesh_load_ex", err, errlen);
 }
 
 bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh *mesh, char *err,

@@ -2,7 +2,9 @@
 #include "io_util.h"
 #include "common/safe_file.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +12,9 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -55,6 +60,12 @@ bg_status bg_io_check_readable(const char *path, char *err, size_t errlen)
         bg_io_set_error(err, errlen, "'%s': is a directory", path);
         return BG_ERR_IO;
     }
+    // A FIFO or device would block the open (and the readers need to seek).
+    if (!S_ISREG(st.st_mode)) {
+        bg_io_set_error(err, errlen, "'%s': not a regular file (a FIFO or device cannot be read)",
+                        path);
+        return BG_ERR_IO;
+    }
     int fd = ::open(path, O_RDONLY);
     if (fd < 0) {
         bg_io_set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
@@ -91,4 +102,64 @@ bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err,
 {
     bgt_err e;
     return from_tool(bgt_safe_commit_path(tmp.c_str(), path, &e), e, err, errlen);
+}
+
+// ---- child processes (mesh import, VDB probe) ----------------------------
+
+size_t bg_io_child_memory_cap(const char *path, const char *env_name)
+{
+    const char *env = std::getenv(env_name);
+    struct stat st;
+    uint64_t file = stat(path, &st) == 0 && st.st_size > 0 ? static_cast<uint64_t>(st.st_size) : 0;
+    uint64_t extra = std::max<uint64_t>(uint64_t(2) << 30, file * 256);
+    if (env && *env) {
+        char *end;
+        unsigned long long mb = std::strtoull(env, &end, 10);
+        if (*end == 0)
+            extra = mb << 20;
+        if (*end == 0 && mb == 0)
+            return 0;
+    }
+    // The mappings the process already has (libraries, the caller's data).
+    FILE *f = std::fopen("/proc/self/statm", "r");
+    unsigned long long pages = 0;
+    if (!f)
+        return 0;
+    int got = std::fscanf(f, "%llu", &pages);
+    std::fclose(f);
+    if (got != 1)
+        return 0;
+    uint64_t now = pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
+    return static_cast<size_t>(std::min<uint64_t>(now + extra, SIZE_MAX));
+}
+
+unsigned bg_io_child_timeout(void)
+{
+    const char *env = std::getenv("BUMPGRAD_CHILD_TIMEOUT");
+    if (env && *env) {
+        char *end;
+        unsigned long v = std::strtoul(env, &end, 10);
+        if (*end == 0 && v > 0 && v < 86400)
+            return static_cast<unsigned>(v);
+    }
+    return 60;
+}
+
+void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s)
+{
+    // Die with the parent: an orphaned importer stuck in a loop would
+    // otherwise run at 100% CPU forever. (The parent may already be gone.)
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent)
+        _exit(1);
+    if (mem_cap) {
+        struct rlimit rl;
+        if (getrlimit(RLIMIT_AS, &rl) == 0 && (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur > mem_cap)) {
+            rl.rlim_cur = mem_cap;
+            setrlimit(RLIMIT_AS, &rl);
+        }
+    }
+    // SIGALRM's default action ends the child; the parent reports the time-out.
+    signal(SIGALRM, SIG_DFL);
+    alarm(timeout_s);
 }

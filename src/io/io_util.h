@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <string>
+#include <sys/types.h>
 
 #include "bumpgrad/common.h"
 
@@ -22,6 +23,16 @@
 #else
 #define BG_IO_PRINTF(f, a)
 #define BG_IO_HIDDEN
+/* ---- child processes (the mesh import, the VDB probe) ----
+ * Address-space cap for a child reading `path`: the mappings the process has
+ * now plus max(2 GiB, 256 x the file size), or env_name in MiB (0 = none). */
+BG_IO_HIDDEN size_t bg_io_child_memory_cap(const char *path, const char *env_name);
+/* Seconds a child may run: BUMPGRAD_CHILD_TIMEOUT, default 60. */
+BG_IO_HIDDEN unsigned bg_io_child_timeout(void);
+/* In the child, right after fork: die with the parent (PR_SET_PDEATHSIG),
+ * cap the address space (0 = no cap), and end by SIGALRM after timeout_s. */
+BG_IO_HIDDEN void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s);
+
 #endif
 
 /* printf into err (errlen may be 0, err may be NULL). */
@@ -47,5 +58,15 @@ BG_IO_HIDDEN void bg_io_discard_temp(const std::string &tmp);
 /* Give the temporary file the permissions a new file would get, and rename it
  * onto `path`. On failure removes it and returns BG_ERR_IO. */
 BG_IO_HIDDEN bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen);
+
+/* ---- child processes (the mesh import, the VDB probe) ----
+ * Address-space cap for a child reading `path`: the mappings the process has
+ * now plus max(2 GiB, 256 x the file size), or env_name in MiB (0 = none). */
+BG_IO_HIDDEN size_t bg_io_child_memory_cap(const char *path, const char *env_name);
+/* Seconds a child may run: BUMPGRAD_CHILD_TIMEOUT, default 60. */
+BG_IO_HIDDEN unsigned bg_io_child_timeout(void);
+/* In the child, right after fork: die with the parent (PR_SET_PDEATHSIG),
+ * cap the address space (0 = no cap), and end by SIGALRM after timeout_s. */
+BG_IO_HIDDEN void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s);
 
 #endif

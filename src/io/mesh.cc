@@ -3,6 +3,7 @@
 // Every extern "C" entry point catches: a C++ exception crossing into the C
 // command line would be undefined behaviour, and assimp allocates freely.
 #include "bumpgrad/mesh.h"
+#include "io_util.h"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
@@ -32,21 +33,6 @@
 
 namespace {
 
-void set_error(char *err, size_t errlen, const char *fmt, ...)
-#if defined(__GNUC__) || defined(__clang__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-void set_error(char *err, size_t errlen, const char *fmt, ...)
-{
-    if (!err || errlen == 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    std::vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-}
 
 // Case-insensitive test of the file name's extension, which is how assimp
 // itself picks an importer first.
@@ -103,21 +89,26 @@ bg_status precheck(const char *path, char *err, size_t errlen)
     // assimp, which reports both as a failed import.
     struct stat st;
     if (stat(path, &st) != 0) {
-        set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
+        bg_io_set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
         return BG_ERR_IO;
     }
     if (S_ISDIR(st.st_mode)) {
-        set_error(err, errlen, "'%s': is a directory, not a mesh file", path);
+        bg_io_set_error(err, errlen, "'%s': is a directory, not a mesh file", path);
+        return BG_ERR_IO;
+    }
+    // A FIFO or device: the open below would block (and assimp needs to seek).
+    if (!S_ISREG(st.st_mode)) {
+        bg_io_set_error(err, errlen, "'%s': not a regular file (a FIFO or device cannot be read)", path);
         return BG_ERR_IO;
     }
     FILE *probe = std::fopen(path, "rb");
     if (!probe) {
-        set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
+        bg_io_set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
         return BG_ERR_IO;
     }
     std::fclose(probe);
     if (S_ISREG(st.st_mode) && st.st_size == 0) {
-        set_error(err, errlen, "'%s': empty file, no mesh in it", path);
+        bg_io_set_error(err, errlen, "'%s': empty file, no mesh in it", path);
         return BG_ERR_FORMAT;
     }
     return BG_OK;
@@ -148,7 +139,7 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     const aiScene *scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
     if (!scene) {
         const char *why = importer.GetErrorString();
-        set_error(err, errlen, "'%s': not a readable mesh (%s)", path,
+        bg_io_set_error(err, errlen, "'%s': not a readable mesh (%s)", path,
                   why && *why ? why : "unknown format");
         return BG_ERR_FORMAT;
     }
@@ -162,7 +153,7 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             for (unsigned c = 0; !bad && c < face.mNumIndices; ++c)
                 bad = face.mIndices[c] >= am->mNumVertices;
             if (bad) {
-                set_error(err, errlen,
+                bg_io_set_error(err, errlen,
                           "'%s': malformed mesh (face %u of mesh %u has %u vertex indices, "
                           "or one beyond its %u vertices; truncated file?)",
                           path, f, k, face.mNumIndices, am->mNumVertices);
@@ -187,12 +178,12 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     scene = importer.ApplyPostProcessing(pp);
     if (!scene) {
         const char *why = importer.GetErrorString();
-        set_error(err, errlen, "'%s': not a usable mesh (%s)", path,
+        bg_io_set_error(err, errlen, "'%s': not a usable mesh (%s)", path,
                   why && *why ? why : "post-processing failed");
         return BG_ERR_FORMAT;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mNumMeshes == 0) {
-        set_error(err, errlen, "'%s': the file holds no mesh", path);
+        bg_io_set_error(err, errlen, "'%s': the file holds no mesh", path);
         return BG_ERR_FORMAT;
     }
 
@@ -223,12 +214,12 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     }
     tangents = tangents && normals && uvs;
     if (nt == 0) {
-        set_error(err, errlen, "'%s': no triangles in the mesh (%zu vertices, %zu points/lines)",
+        bg_io_set_error(err, errlen, "'%s': no triangles in the mesh (%zu vertices, %zu points/lines)",
                   path, nv, dropped);
         return BG_ERR_FORMAT;
     }
     if (nv > UINT32_MAX) {
-        set_error(err, errlen, "'%s': %zu vertices, more than the 2^32-1 this tool indexes", path,
+        bg_io_set_error(err, errlen, "'%s': %zu vertices, more than the 2^32-1 this tool indexes", path,
                   nv);
         return BG_ERR_FORMAT;
     }
@@ -264,7 +255,7 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     ok = ok && m.indices;
     if (!ok) {
         bg_mesh_free(&m);
-        set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path, nv, nt);
+        bg_io_set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path, nv, nt);
         return BG_ERR_OUT_OF_MEMORY;
     }
 
@@ -336,7 +327,7 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
                     // ValidateDataStructure rejects this already; kept so that
                     // no caller can ever index out of the arrays.
                     bg_mesh_free(&m);
-                    set_error(err, errlen, "'%s': face %u of mesh '%s' refers to vertex %u of %u",
+                    bg_io_set_error(err, errlen, "'%s': face %u of mesh '%s' refers to vertex %u of %u",
                               path, f, am->mName.C_Str(), idx, am->mNumVertices);
                     return BG_ERR_FORMAT;
                 }
@@ -357,15 +348,15 @@ bg_status import_guarded(const char *path, unsigned flags, bg_mesh *out, char *e
         return import_scene(path, flags, out, err, errlen);
     } catch (const std::bad_alloc &) {
         bg_mesh_free(out);
-        set_error(err, errlen, "'%s': out of memory while loading", path);
+        bg_io_set_error(err, errlen, "'%s': out of memory while loading", path);
         return BG_ERR_OUT_OF_MEMORY;
     } catch (const std::exception &e) {
         bg_mesh_free(out);
-        set_error(err, errlen, "'%s': not a readable mesh (%s)", path, e.what());
+        bg_io_set_error(err, errlen, "'%s': not a readable mesh (%s)", path, e.what());
         return BG_ERR_FORMAT;
     } catch (...) {
         bg_mesh_free(out);
-        set_error(err, errlen, "'%s': not a readable mesh", path);
+        bg_io_set_error(err, errlen, "'%s': not a readable mesh", path);
         return BG_ERR_FORMAT;
     }
 }
@@ -422,46 +413,18 @@ bool read_all(int fd, void *p, size_t n)
 // BUMPGRAD_MESH_MAX_MB overrides the extra allowance; 0 disables the cap.
 size_t child_memory_cap(const char *path)
 {
-    const char *env = std::getenv("BUMPGRAD_MESH_MAX_MB");
-    struct stat st;
-    uint64_t file = stat(path, &st) == 0 && st.st_size > 0 ? static_cast<uint64_t>(st.st_size) : 0;
-    uint64_t extra = std::max<uint64_t>(uint64_t(2) << 30, file * 256);
-    if (env && *env) {
-        char *end;
-        unsigned long long mb = std::strtoull(env, &end, 10);
-        if (*end == 0)
-            extra = mb << 20;
-        if (*end == 0 && mb == 0)
-            return 0;
-    }
-    // The mappings the process already has (libraries, the caller's data).
-    FILE *f = std::fopen("/proc/self/statm", "r");
-    unsigned long long pages = 0;
-    if (!f)
-        return 0;
-    int got = std::fscanf(f, "%llu", &pages);
-    std::fclose(f);
-    if (got != 1)
-        return 0;
-    uint64_t now = pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
-    return static_cast<size_t>(std::min<uint64_t>(now + extra, SIZE_MAX));
+    return bg_io_child_memory_cap(path, "BUMPGRAD_MESH_MAX_MB");
 }
 
-[[noreturn]] void child_main(int fd, const char *path, unsigned flags)
+[[noreturn]] void child_main(int fd, const char *path, unsigned flags, pid_t parent_pid)
 {
     bg_mesh m{};
     wire_header h{};
     size_t cap = child_memory_cap(path);
-    if (cap) {
-        struct rlimit rl;
-        if (getrlimit(RLIMIT_AS, &rl) == 0 && (rl.rlim_cur == RLIM_INFINITY || rl.rlim_cur > cap)) {
-            rl.rlim_cur = cap;
-            setrlimit(RLIMIT_AS, &rl);
-        }
-    }
+    bg_io_child_limits(parent_pid, cap, bg_io_child_timeout());
     h.status = import_guarded(path, flags, &m, h.err, sizeof h.err);
     if (h.status == BG_ERR_OUT_OF_MEMORY && cap) {
-        set_error(h.err, sizeof h.err,
+        bg_io_set_error(h.err, sizeof h.err,
                   "'%s': the import needs more than %zu MiB, far more than a file of this "
                   "size should (corrupt counts in the file?); set BUMPGRAD_MESH_MAX_MB to "
                   "allow more",
@@ -495,6 +458,7 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
     int fds[2];
     if (pipe(fds) != 0)
         return -1;
+    pid_t parent = getpid();
     pid_t pid = fork();
     if (pid < 0) {
         close(fds[0]);
@@ -506,7 +470,7 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
         // A parent that stops reading (out of memory) must end the child, not
         // leave it blocked: the default SIGPIPE action does that.
         signal(SIGPIPE, SIG_DFL);
-        child_main(fds[1], path, flags);
+        child_main(fds[1], path, flags, parent);
     }
     close(fds[1]);
     wire_header h{};
@@ -549,25 +513,30 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
     while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
     }
     if (rc == BG_ERR_OUT_OF_MEMORY) {
-        set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path,
+        bg_io_set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path,
                   m.vertex_count, m.triangle_count);
         bg_mesh_free(&m);
         return BG_ERR_OUT_OF_MEMORY;
     }
     if (!got) {
         bg_mesh_free(&m);
-        if (WIFSIGNALED(wstatus))
-            set_error(err, errlen,
+        if (WIFSIGNALED(wstatus) && WTERMSIG(wstatus) == SIGALRM)
+            bg_io_set_error(err, errlen,
+                      "'%s': the mesh importer (assimp) took more than %u s on this file and "
+                      "was stopped (set BUMPGRAD_CHILD_TIMEOUT to allow more)",
+                      path, bg_io_child_timeout());
+        else if (WIFSIGNALED(wstatus))
+            bg_io_set_error(err, errlen,
                       "'%s': the mesh importer (assimp) crashed on this file (signal %d); "
                       "it is probably corrupt",
                       path, WTERMSIG(wstatus));
         else
-            set_error(err, errlen, "'%s': the mesh importer stopped without a result", path);
+            bg_io_set_error(err, errlen, "'%s': the mesh importer stopped without a result", path);
         return BG_ERR_FORMAT;
     }
     if (h.status != BG_OK) {
         h.err[sizeof h.err - 1] = 0;
-        set_error(err, errlen, "%s", h.err);
+        bg_io_set_error(err, errlen, "%s", h.err);
         return h.status;
     }
     *out = m;
@@ -666,7 +635,7 @@ bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *
     if (!path)
         return BG_ERR_NULL_POINTER;
     if (flags & ~7u || (flags & 3u) == 3u) {
-        set_error(err, errlen, "'%s': invalid mesh loading flags %#x", path, flags);
+        bg_io_set_error(err, errlen, "'%s': invalid mesh loading flags %#x", path, flags);
         return BG_ERR_INVALID_ARGUMENT;
     }
     bg_status st = precheck(path, err, errlen);

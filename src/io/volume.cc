@@ -317,10 +317,15 @@ static bg_status open_impl(const char *path, const char *grid_name, bg_vdb_heigh
 static bg_status probe_in_child(const char *path, const char *grid_name, char *err, size_t errlen)
 {
     std::fflush(nullptr);
+    const pid_t parent = getpid();
+    const unsigned timeout = bg_io_child_timeout();
     pid_t pid = fork();
     if (pid < 0)
         return BG_OK; // cannot probe: fall back to reading in-process
     if (pid == 0) {
+        // A fuzzed 153 KB file once cost 2 GB here: the same address-space cap
+        // as the mesh import child, a time-out, and death with the parent.
+        bg_io_child_limits(parent, bg_io_child_memory_cap(path, "BUMPGRAD_VDB_MAX_MB"), timeout);
         int fd = ::open("/dev/null", O_WRONLY);
         if (fd >= 0)
             ::dup2(fd, 2); // the parent prints the one message
@@ -332,7 +337,9 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
         } catch (...) {
             s = BG_ERR_FORMAT;
         }
-        ::_exit(s == BG_OK ? 0 : 3); // a clean error is reproduced by the parent
+        // A clean error is reproduced by the parent; running out of the cap is not
+        // retried there without one.
+        ::_exit(s == BG_OK ? 0 : s == BG_ERR_OUT_OF_MEMORY ? 4 : 3);
     }
     int status = 0;
     for (int waited_ms = 0;; waited_ms += 10) {
@@ -341,18 +348,30 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
             break;
         if (r < 0 && errno != EINTR)
             return BG_OK;
-        if (waited_ms >= 60000) {
+        if (waited_ms >= 1000 * static_cast<int>(timeout) + 1000) {
             ::kill(pid, SIGKILL);
             ::waitpid(pid, &status, 0);
-            bg_io_set_error(err, errlen, "'%s': reading the VDB file took over 60 s; giving up", path);
-            return BG_ERR_FORMAT;
+            status = 0;
+            break;
         }
         struct timespec ts = {0, 10 * 1000 * 1000};
         nanosleep(&ts, nullptr);
     }
+    if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGALRM || WTERMSIG(status) == SIGKILL)) {
+        bg_io_set_error(err, errlen,
+                        "'%s': reading the VDB file took over %u s; giving up (set "
+                        "BUMPGRAD_CHILD_TIMEOUT to allow more)", path, timeout);
+        return BG_ERR_FORMAT;
+    }
     if (WIFSIGNALED(status)) {
         bg_io_set_error(err, errlen, "'%s': corrupt VDB file (OpenVDB crashed reading it, signal %d)",
                         path, WTERMSIG(status));
+        return BG_ERR_FORMAT;
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 4) {
+        bg_io_set_error(err, errlen,
+                        "'%s': reading the VDB file needs more memory than a file of this size "
+                        "should (corrupt counts?); set BUMPGRAD_VDB_MAX_MB to allow more", path);
         return BG_ERR_FORMAT;
     }
     return BG_OK;

@@ -3,6 +3,7 @@
  * upgrade level by level, stopping at the first missing feature (dav1d's
  * pal.h); BUMPGRAD_ISA or bg_isa_force() caps the level. */
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "kernels.h"
@@ -99,6 +100,10 @@ bg_isa bg_isa_best(void)
     return (bg_isa)b;
 }
 
+/* The library's one rule (common.h): scalar, the best level, or below the best
+ * on the same x86 chain (NEON is its own chain). bg_isa_best() walks the chain
+ * up to the first level that is not built or not usable, so every level this
+ * accepts has a kernel table and runs on this CPU. */
 static int isa_at_or_below(bg_isa want, bg_isa best)
 {
     if (want == BG_ISA_SCALAR || want == best)
@@ -108,20 +113,29 @@ static int isa_at_or_below(bg_isa want, bg_isa best)
     return want <= best;
 }
 
+int bg_isa_supported(bg_isa isa)
+{
+    return (unsigned)isa < BG_ISA_COUNT && isa_at_or_below(isa, bg_isa_best());
+}
+
 static atomic_int active_isa = -1;
 
 bg_isa bg_isa_active(void)
 {
     int a = atomic_load(&active_isa);
     if (a < 0) {
-        bg_isa best = bg_isa_best(), want;
-        a = best;
-        /* An unknown or too-high BUMPGRAD_ISA is ignored here (the library has no
-         * channel to complain); the CLI validates it and exits with a message. */
+        bg_isa want;
+        a = bg_isa_best();
+        /* An unknown or unsupported BUMPGRAD_ISA is ignored here (the library
+         * never prints); bg_isa_env_status() reports it. */
         const char *env = getenv("BUMPGRAD_ISA");
-        if (env && *env && bg_isa_parse(env, &want) == BG_OK && isa_at_or_below(want, best))
+        if (env && *env && bg_isa_parse(env, &want) == BG_OK && bg_isa_supported(want))
             a = want;
-        atomic_store(&active_isa, a);
+        /* Concurrent first calls compute the same level; a bg_isa_force() that
+         * got in first wins (a plain store here could undo it). */
+        int expected = -1;
+        if (!atomic_compare_exchange_strong(&active_isa, &expected, a))
+            a = expected;
     }
     return (bg_isa)a;
 }
@@ -130,9 +144,52 @@ bg_status bg_isa_force(bg_isa isa)
 {
     if ((unsigned)isa >= BG_ISA_COUNT)
         return BG_ERR_INVALID_ARGUMENT;
-    if (!isa_at_or_below(isa, bg_isa_best()))
+    if (!bg_isa_supported(isa))
         return BG_ERR_UNSUPPORTED_ISA;
     atomic_store(&active_isa, (int)isa);
+    return BG_OK;
+}
+
+/* "scalar, sse2, avx2" : the supported names, lowest first. */
+static void list_supported(char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < BG_ISA_COUNT; i++) {
+        if (!bg_isa_supported((bg_isa)i))
+            continue;
+        int w = snprintf(buf + used, len - used, "%s%s", used ? ", " : "", isa_names[i]);
+        if (w < 0 || (size_t)w >= len - used)
+            return;
+        used += (size_t)w;
+    }
+}
+
+bg_status bg_isa_env_status(char *msg, size_t msglen)
+{
+    if (msg && msglen)
+        msg[0] = '\0';
+    else
+        msg = NULL;
+    const char *env = getenv("BUMPGRAD_ISA");
+    if (!env || !*env)
+        return BG_OK;
+    bg_isa isa;
+    char have[64];
+    list_supported(have, sizeof have);
+    if (bg_isa_parse(env, &isa) != BG_OK) {
+        if (msg)
+            snprintf(msg, msglen, "BUMPGRAD_ISA: unknown ISA level \"%s\" (this CPU has: %s)", env,
+                     have);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    if (!bg_isa_supported(isa)) {
+        if (msg)
+            snprintf(msg, msglen,
+                     "BUMPGRAD_ISA: ISA level \"%s\" is not available here (this CPU has: %s)",
+                     env, have);
+        return BG_ERR_UNSUPPORTED_ISA;
+    }
     return BG_OK;
 }
 

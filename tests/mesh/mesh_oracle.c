@@ -2,7 +2,7 @@
 /* Test helper for tests/mesh/test_mesh.py: a thin bridge from Python to the
  * library's public single-point API, so that the test can recompute every
  * vertex and texel the `bumpgrad mesh` command wrote, without the command's
- * code (no batch kernels, no cli_height_*, no mesh_* helpers).
+ * code (no batch kernels, no bgt_height_*, no mesh_* helpers of src/tools).
  *
  *   mesh_oracle perturb IN.f32 OUT.f32 N --method M [height options]
  *       IN: N records of 6 float32 (px py pz nx ny nz), native byte order.

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 #include "tool.h"
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 bg_status bgt_fail(bgt_err *e, bg_status s, const char *fmt, ...)
@@ -29,6 +31,32 @@ void bgt_err_prefix(bgt_err *e, const char *prefix)
     memcpy(e->msg, prefix, pl);
     e->msg[pl] = ':', e->msg[pl + 1] = ' ';
     e->msg[pl + 2 + ml] = '\0';
+}
+
+size_t bgt_memory_cap(void)
+{
+    const char *env = getenv("BUMPGRAD_MAX_MB");
+    unsigned long long mb = BGT_DEFAULT_MAX_MB;
+    if (env && *env) {
+        char *end;
+        unsigned long long v = strtoull(env, &end, 10);
+        if (*end == '\0')
+            mb = v;
+    }
+    if (mb == 0 || mb > (unsigned long long)(SIZE_MAX >> 20))
+        return SIZE_MAX;
+    return (size_t)mb << 20;
+}
+
+bg_status bgt_check_alloc(double bytes, const char *what, bgt_err *e)
+{
+    size_t cap = bgt_memory_cap();
+    if (cap == SIZE_MAX || bytes <= (double)cap)
+        return BG_OK;
+    return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                    "%s would need %.0f MiB, over the cap of %zu MiB (set BUMPGRAD_MAX_MB to "
+                    "raise it, 0 for none)",
+                    what, bytes / 1048576.0, cap >> 20);
 }
 
 void bgt_err_clear(bgt_err *e)

@@ -10,6 +10,10 @@
 #include <stddef.h>
 #include "bumpgrad/common.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #if defined(__GNUC__) || defined(__clang__)
 #define BGT_PRINTF(f, a) __attribute__((format(printf, f, a)))
 #else
@@ -28,6 +32,23 @@ bg_status bgt_fail(bgt_err *e, bg_status s, const char *fmt, ...) BGT_PRINTF(3, 
 /* Prefix the message already in *e with "prefix: " (context on the way up). */
 void bgt_err_prefix(bgt_err *e, const char *prefix);
 void bgt_err_clear(bgt_err *e);
+
+/* ---- the one cap on input-driven allocations ----
+ * Every allocation whose size an input decides (an image's declared size, a
+ * volume's box, a render's size and samples, a bake's size) is checked against
+ * this cap before it happens: BUMPGRAD_MAX_MB mebibytes (default 4096, i.e.
+ * 4 GiB; 0 = no cap). The mesh import child has its own address-space cap
+ * (BUMPGRAD_MESH_MAX_MB, docs/MESH.md). */
+#define BGT_DEFAULT_MAX_MB 4096u
+size_t bgt_memory_cap(void);
+/* BG_OK if `bytes` (saturated: pass SIZE_MAX on overflow) fits the cap, else
+ * BG_ERR_INVALID_ARGUMENT with a message naming `what`, the size and the cap. */
+bg_status bgt_check_alloc(double bytes, const char *what, bgt_err *e);
+
+/* BG_OK if the I/O module (images, volumes, meshes) loads; else BG_ERR_IO
+ * with the loader's reason. Tools that read or write files through the shim
+ * call it before their work (tools build only: common/io_ready.c). */
+bg_status bgt_io_ready(bgt_err *e);
 
 /* Progress of a long job: begin(label, total) once, update(done) from any
  * worker (the callback is responsible for its own rate limiting and locking),
@@ -54,5 +75,9 @@ static inline void bgt_progress_end(const bgt_progress *p)
     if (p && p->end)
         p->end(p->ctx);
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -19,13 +19,14 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include "mesh_tool.h"
+#include "common/parallel.h"
+#include "mesh/mesh_tool.h"
 
 typedef struct bake_ctx {
     const bg_mesh *m;
     const float *nx, *ny, *nz;
     const mesh_tangents *tan; /* NULL for object space */
-    const cli_height *h;
+    const bgt_height *h;
     bg_perturb_method method;
     int width;
     const int32_t *tri; /* triangle per texel, -1 = empty */
@@ -80,7 +81,7 @@ static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
         qz[j] = w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]];
         idx[j++] = k;
     }
-    cli_height_gradient(c->h, px, py, pz, cnt, NULL, gx, gy, gz);
+    bgt_height_gradient(c->h, px, py, pz, cnt, NULL, gx, gy, gz);
     /* bg_perturb normalizes the interpolated normal itself. Outputs alias the
      * gradient inputs exactly, which the batch call allows. */
     bg_perturb_batch(c->method, qx, qy, qz, gx, gy, gz, cnt, gx, gy, gz);
@@ -220,29 +221,31 @@ static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tan
     return filled;
 }
 
-int mesh_bake(const char *cmd, const bg_mesh *m, const float *nx, const float *ny,
-              const float *nz, const cli_height *h, const mesh_bake_opts *o, bg_image *img,
-              mesh_bake_stats *stats)
+bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
+                    const bgt_height *h, const mesh_bake_opts *o, bg_image *img,
+                    mesh_bake_stats *stats, bgt_err *e)
 {
     memset(stats, 0, sizeof *stats);
     memset(img, 0, sizeof *img);
     int W = o->width, H = o->height;
     size_t npix = (size_t)W * (size_t)H;
     if (m->triangle_count > (size_t)INT32_MAX)
-        return cli_fail(cmd, "too many triangles to bake (%zu)", m->triangle_count);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "too many triangles to bake (%zu)",
+                        m->triangle_count);
 
     mesh_tangents tan;
     memset(&tan, 0, sizeof tan);
-    if (o->space == MESH_BAKE_TANGENT && mesh_vertex_tangents(cmd, m, nx, ny, nz, &tan) != 0)
-        return CLI_FAIL;
+    bg_status rc = BG_OK;
+    if (o->space == MESH_BAKE_TANGENT &&
+        (rc = mesh_vertex_tangents(m, nx, ny, nz, &tan, e)) != BG_OK)
+        return rc;
 
     int32_t *tri = malloc(npix * sizeof *tri);
     float *b1 = malloc(npix * sizeof *b1), *b2 = malloc(npix * sizeof *b2);
     float *vec = calloc(npix * 3, sizeof *vec);
     uint16_t *level = calloc(npix, sizeof *level);
-    int rc = 0;
     if (!tri || !b1 || !b2 || !vec || !level) {
-        rc = cli_fail(cmd, "out of memory for a %dx%d bake", W, H);
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d bake", W, H);
         goto done;
     }
     for (size_t k = 0; k < npix; k++)
@@ -258,9 +261,9 @@ int mesh_bake(const char *cmd, const bg_mesh *m, const float *nx, const float *n
                   .vec = vec};
     atomic_init(&c.oom, 0);
     size_t rows = (size_t)(16384 / W) + 1;
-    cli_parallel_for((size_t)H, rows, o->threads, shade_rows, &c);
+    bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, &c);
     if (atomic_load(&c.oom)) {
-        rc = cli_fail(cmd, "out of memory while baking");
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
         goto done;
     }
     for (size_t k = 0; k < npix; k++) {
@@ -272,7 +275,7 @@ int mesh_bake(const char *cmd, const bg_mesh *m, const float *nx, const float *n
     stats->padded = pad(vec, level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
 
     if (bg_image_alloc(img, W, H, 3) != BG_OK) {
-        rc = cli_fail(cmd, "out of memory for a %dx%d image", W, H);
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d image", W, H);
         goto done;
     }
     for (size_t k = 0; k < npix; k++) {

@@ -6,24 +6,12 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "mesh_tool.h"
+#include "mesh/mesh_tool.h"
+#include "vecmath.h"
 
-typedef struct dvec {
-    double x, y, z;
-} dvec;
-
-static dvec dv_sub(dvec a, dvec b) { return (dvec){a.x - b.x, a.y - b.y, a.z - b.z}; }
-static dvec dv_scale(dvec a, double s) { return (dvec){a.x * s, a.y * s, a.z * s}; }
-static double dv_dot(dvec a, dvec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static dvec dv_cross(dvec a, dvec b)
+static bg_dvec3 vertex_pos(const bg_mesh *m, uint32_t i)
 {
-    return (dvec){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-static double dv_len(dvec a) { return sqrt(dv_dot(a, a)); }
-
-static dvec vertex_pos(const bg_mesh *m, uint32_t i)
-{
-    return (dvec){m->px[i], m->py[i], m->pz[i]};
+    return (bg_dvec3){m->px[i], m->py[i], m->pz[i]};
 }
 
 int mesh_triangle_usable(const bg_mesh *m, size_t t)
@@ -31,9 +19,9 @@ int mesh_triangle_usable(const bg_mesh *m, size_t t)
     const uint32_t *ix = m->indices + 3 * t;
     if (ix[0] == ix[1] || ix[1] == ix[2] || ix[0] == ix[2])
         return 0;
-    dvec p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
-    dvec c = dv_cross(dv_sub(p1, p0), dv_sub(p2, p0));
-    double a = dv_len(c);
+    bg_dvec3 p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
+    bg_dvec3 c = bg_dv3_cross(bg_dv3_sub(p1, p0), bg_dv3_sub(p2, p0));
+    double a = bg_dv3_length_naive(c);
     /* A NaN/Inf corner makes the length NaN/Inf, so one test covers both. */
     return isfinite(a) && a > 0.0;
 }
@@ -41,9 +29,9 @@ int mesh_triangle_usable(const bg_mesh *m, size_t t)
 /* Stores v / |v| (normalized in double, rounded once) or, when v has no
  * direction (zero, NaN, Inf: no usable triangle, or contributions that cancel
  * exactly), the surfgrad.h sentinel (0,0,0). Returns 1 for the sentinel. */
-static int store_unit(dvec v, float *x, float *y, float *z)
+static int store_unit(bg_dvec3 v, float *x, float *y, float *z)
 {
-    double l = dv_len(v);
+    double l = bg_dv3_length_naive(v);
     if (!(isfinite(l) && l > 0.0)) {
         *x = *y = *z = 0.0f;
         return 1;
@@ -56,7 +44,7 @@ size_t mesh_normalize_normals(size_t n, float *nx, float *ny, float *nz)
 {
     size_t none = 0;
     for (size_t i = 0; i < n; i++) {
-        dvec v = {nx[i], ny[i], nz[i]};
+        bg_dvec3 v = {nx[i], ny[i], nz[i]};
         none += (size_t)store_unit(v, nx + i, ny + i, nz + i);
     }
     return none;
@@ -65,12 +53,12 @@ size_t mesh_normalize_normals(size_t n, float *nx, float *ny, float *nz)
 /* Corner angles of a triangle whose doubled area is `c2a` = |e01 x e02|: every
  * pair of edges has that same cross-product length, so atan2(|a x b|, a.b)
  * (accurate at any angle, unlike acos) needs one length for all three. */
-static void corner_angles(dvec p0, dvec p1, dvec p2, double c2a, double ang[3])
+static void corner_angles(bg_dvec3 p0, bg_dvec3 p1, bg_dvec3 p2, double c2a, double ang[3])
 {
-    dvec e01 = dv_sub(p1, p0), e02 = dv_sub(p2, p0), e12 = dv_sub(p2, p1);
-    ang[0] = atan2(c2a, dv_dot(e01, e02));
-    ang[1] = atan2(c2a, -dv_dot(e01, e12));
-    ang[2] = atan2(c2a, dv_dot(e02, e12));
+    bg_dvec3 e01 = bg_dv3_sub(p1, p0), e02 = bg_dv3_sub(p2, p0), e12 = bg_dv3_sub(p2, p1);
+    ang[0] = atan2(c2a, bg_dv3_dot(e01, e02));
+    ang[1] = atan2(c2a, -bg_dv3_dot(e01, e12));
+    ang[2] = atan2(c2a, bg_dv3_dot(e02, e12));
 }
 
 size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz)
@@ -83,10 +71,10 @@ size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz)
         if (!mesh_triangle_usable(m, t))
             continue;
         const uint32_t *ix = m->indices + 3 * t;
-        dvec p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
-        dvec c = dv_cross(dv_sub(p1, p0), dv_sub(p2, p0));
-        double c2a = dv_len(c);
-        dvec fn = dv_scale(c, 1.0 / c2a);
+        bg_dvec3 p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
+        bg_dvec3 c = bg_dv3_cross(bg_dv3_sub(p1, p0), bg_dv3_sub(p2, p0));
+        double c2a = bg_dv3_length_naive(c);
+        bg_dvec3 fn = bg_dv3_scale(c, 1.0 / c2a);
         double ang[3];
         corner_angles(p0, p1, p2, c2a, ang);
         for (int k = 0; k < 3; k++) {
@@ -98,7 +86,7 @@ size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz)
     }
     size_t none = 0;
     for (size_t i = 0; i < nv; i++) {
-        dvec v = {acc[3 * i], acc[3 * i + 1], acc[3 * i + 2]};
+        bg_dvec3 v = {acc[3 * i], acc[3 * i + 1], acc[3 * i + 2]};
         none += (size_t)store_unit(v, nx + i, ny + i, nz + i);
     }
     free(acc);
@@ -116,12 +104,12 @@ double mesh_uv_signed_area(const bg_mesh *m, size_t t)
 /* A unit vector orthogonal to the unit n, continuous except across n.z = 0's
  * sign flip (the construction of Duff et al. 2017, "Building an orthonormal
  * basis, revisited"): used only where UVs give no tangent at all. */
-static dvec any_tangent(dvec n)
+static bg_dvec3 any_tangent(bg_dvec3 n)
 {
     double s = n.z >= 0.0 ? 1.0 : -1.0;
     double a = -1.0 / (s + n.z);
     double b = n.x * n.y * a;
-    return (dvec){1.0 + s * n.x * n.x * a, s * b, -s * n.x};
+    return (bg_dvec3){1.0 + s * n.x * n.x * a, s * b, -s * n.x};
 }
 
 void mesh_tangents_free(mesh_tangents *t)
@@ -133,8 +121,8 @@ void mesh_tangents_free(mesh_tangents *t)
         }
 }
 
-int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, const float *ny,
-                         const float *nz, mesh_tangents *out)
+bg_status mesh_vertex_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                               const float *nz, mesh_tangents *out, bgt_err *e)
 {
     size_t nv = m->vertex_count;
     memset(out, 0, sizeof *out);
@@ -148,7 +136,8 @@ int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, con
     if (!ok) {
         free(acc);
         mesh_tangents_free(out);
-        return cli_fail(cmd, "out of memory for the tangents of %zu vertices", nv);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the tangents of %zu vertices",
+                        nv);
     }
     for (size_t t = 0; t < m->triangle_count; t++) {
         if (!mesh_triangle_usable(m, t))
@@ -157,25 +146,25 @@ int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, con
         double det = mesh_uv_signed_area(m, t);
         if (!(isfinite(det) && det != 0.0))
             continue;
-        dvec p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
-        dvec e1 = dv_sub(p1, p0), e2 = dv_sub(p2, p0);
+        bg_dvec3 p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
+        bg_dvec3 e1 = bg_dv3_sub(p1, p0), e2 = bg_dv3_sub(p2, p0);
         double dv1 = (double)m->v[ix[1]] - m->v[ix[0]], dv2 = (double)m->v[ix[2]] - m->v[ix[0]];
         /* dP/du = (e1 dv2 - e2 dv1) / det; only its direction matters, so the
          * division becomes a sign, which keeps the tangent pointing along +u on
          * mirrored islands too. */
         double sg = det > 0.0 ? 1.0 : -1.0;
         int slot = det > 0.0 ? 0 : 1;
-        dvec tu = dv_scale(dv_sub(dv_scale(e1, dv2), dv_scale(e2, dv1)), sg);
-        double c2a = dv_len(dv_cross(e1, e2));
+        bg_dvec3 tu = bg_dv3_scale(bg_dv3_sub(bg_dv3_scale(e1, dv2), bg_dv3_scale(e2, dv1)), sg);
+        double c2a = bg_dv3_length_naive(bg_dv3_cross(e1, e2));
         double ang[3];
         corner_angles(p0, p1, p2, c2a, ang);
         for (int k = 0; k < 3; k++) {
             uint32_t i = ix[k];
-            dvec n = {nx[i], ny[i], nz[i]};
+            bg_dvec3 n = {nx[i], ny[i], nz[i]};
             /* Project onto this vertex's tangent plane before summing, so that
              * the face's slant against the smooth normal does not weigh in. */
-            dvec tp = dv_sub(tu, dv_scale(n, dv_dot(n, tu)));
-            double l = dv_len(tp);
+            bg_dvec3 tp = bg_dv3_sub(tu, bg_dv3_scale(n, bg_dv3_dot(n, tu)));
+            double l = bg_dv3_length_naive(tp);
             if (!(isfinite(l) && l > 0.0))
                 continue;
             double w = ang[k] / l;
@@ -186,23 +175,23 @@ int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, con
         }
     }
     for (size_t i = 0; i < nv; i++) {
-        dvec n = {nx[i], ny[i], nz[i]};
+        bg_dvec3 n = {nx[i], ny[i], nz[i]};
         for (int s = 0; s < 2; s++) {
             const double *a = acc + 6 * i + 3 * (size_t)s;
-            dvec t = {a[0], a[1], a[2]};
-            t = dv_sub(t, dv_scale(n, dv_dot(n, t))); /* Gram-Schmidt */
-            double l = dv_len(t);
+            bg_dvec3 t = {a[0], a[1], a[2]};
+            t = bg_dv3_sub(t, bg_dv3_scale(n, bg_dv3_dot(n, t))); /* Gram-Schmidt */
+            double l = bg_dv3_length_naive(t);
             if (isfinite(l) && l > 0.0)
-                t = dv_scale(t, 1.0 / l);
-            else if (dv_dot(n, n) > 0.0)
+                t = bg_dv3_scale(t, 1.0 / l);
+            else if (bg_dv3_dot(n, n) > 0.0)
                 t = any_tangent(n);
             else
-                t = (dvec){1.0, 0.0, 0.0};
+                t = (bg_dvec3){1.0, 0.0, 0.0};
             out->t[s][0][i] = (float)t.x;
             out->t[s][1][i] = (float)t.y;
             out->t[s][2][i] = (float)t.z;
         }
     }
     free(acc);
-    return 0;
+    return BG_OK;
 }

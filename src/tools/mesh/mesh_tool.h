@@ -1,15 +1,19 @@
 /* SPDX-License-Identifier: MIT */
-/* Internal interface of `bumpgrad mesh` (cmd_mesh.c): mesh-level vertex
- * normals and tangents (mesh_frames.c), the PLY writer (mesh_ply.c) and the
- * UV-space normal-map baker (mesh_bake.c). Tools build only. */
+/* The mesh tool behind `bumpgrad mesh` (src/cli/cmd_mesh.c): the whole job
+ * (bgt_mesh_run, mesh_job.c), and its pieces: mesh-level vertex normals and
+ * tangents (mesh_frames.c), the PLY writer (mesh_ply.c) and the UV-space
+ * normal-map baker (mesh_bake.c). Tools build only. */
 #ifndef BUMPGRAD_TOOLS_MESH_TOOL_H
 #define BUMPGRAD_TOOLS_MESH_TOOL_H
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
+#include "bumpgrad.h"
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
-#include "cli.h"
+#include "common/tool.h"
+#include "height_source.h"
 
 /* ---- degenerate input ----
  * A triangle is "unusable" when an index repeats, a corner position is NaN/Inf,
@@ -41,9 +45,9 @@ size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz);
 typedef struct mesh_tangents {
     float *t[2][3]; /* t[s][axis][vertex]: unit tangents for sign +1 (s=0) and -1 (s=1) */
 } mesh_tangents;
-/* 0, or CLI_FAIL when out of memory (after printing). m->u/m->v must be set. */
-int mesh_vertex_tangents(const char *cmd, const bg_mesh *m, const float *nx, const float *ny,
-                         const float *nz, mesh_tangents *out);
+/* BG_OK, or BG_ERR_OUT_OF_MEMORY with a message in *e. m->u/m->v must be set. */
+bg_status mesh_vertex_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                               const float *nz, mesh_tangents *out, bgt_err *e);
 void mesh_tangents_free(mesh_tangents *t);
 /* Signed UV area (twice) of triangle t: > 0 keeps orientation, < 0 mirrors. */
 double mesh_uv_signed_area(const bg_mesh *m, size_t t);
@@ -79,10 +83,65 @@ typedef struct mesh_bake_stats {
     size_t skipped;      /* unusable triangles or triangles with zero / non-finite UV area */
 } mesh_bake_stats;
 /* Rasterize the mesh in UV space into `img` (allocated here, 3 channels,
- * encoded 0.5 * m + 0.5). `nx/ny/nz` are the unit vertex normals. 0 or
- * CLI_FAIL (out of memory, printed). */
-int mesh_bake(const char *cmd, const bg_mesh *m, const float *nx, const float *ny,
-              const float *nz, const cli_height *h, const mesh_bake_opts *o, bg_image *img,
-              mesh_bake_stats *stats);
+ * encoded 0.5 * m + 0.5). `nx/ny/nz` are the unit vertex normals; `h` is
+ * opened. BG_OK, or BG_ERR_OUT_OF_MEMORY (also for more than INT32_MAX
+ * triangles) with a message in *e. */
+bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
+                    const bgt_height *h, const mesh_bake_opts *o, bg_image *img,
+                    mesh_bake_stats *stats, bgt_err *e);
+
+/* ---- the whole job of `bumpgrad mesh` (mesh_job.c) ---- */
+typedef struct bgt_mesh_opts {
+    const char *input;       /* any format assimp reads (required) */
+    const char *output;      /* OUT.ply, "-" = stdout, or NULL (then bake_path is required) */
+    const char *bake_path;   /* normal map (format from the extension), or NULL */
+    const bgt_height *height; /* the height parameters, NOT opened: bgt_mesh_run opens
+                               * (and closes) its own copy after the path checks */
+    bg_perturb_method method;
+    int compare;             /* add the compare_deg property */
+    int ascii;               /* ASCII PLY instead of binary little-endian */
+    int recompute_normals;   /* ignore the file's normals */
+    unsigned join;           /* BG_MESH_JOIN_AUTO / _ALWAYS / _NEVER */
+    int threads;             /* 0 = all cores */
+    mesh_bake_opts bake;     /* width, height (> 0 with bake_path), space, padding;
+                              * method and threads are taken from above */
+    int bake_depth;          /* a bg_pixel_type, or -1: half for .exr, else 8 bits */
+} bgt_mesh_opts;
+
+/* What `bumpgrad mesh` prints: the mesh, the normals, the perturbation
+ * statistics (means over the vertices with a normal), the bake and the times. */
+typedef struct bgt_mesh_result {
+    size_t vertex_count, triangle_count, mesh_count, dropped_primitives;
+    int file_normals;            /* normals came from the file (else angle-weighted) */
+    size_t no_normal;            /* vertices with the (0,0,0) sentinel */
+    size_t unusable_triangles, nonfinite_positions;
+    size_t valid;                /* vertices with a normal */
+    size_t finite_height, nonfinite_height;
+    double mean_height;          /* over the finite heights (0 if none) */
+    double mean_angle, max_angle; /* n vs n' of the chosen method, degrees */
+    size_t inward_surf, inward_other; /* dot(n', n) <= 0: surfgrad, and the other method */
+    double mean_compare, max_compare; /* surfgrad vs additive (or the chosen additive) */
+    mesh_bake_stats bake;
+    int threads;                 /* worker threads used */
+    double t_load, t_normals, t_perturb, t_bake, t_write; /* seconds */
+} bgt_mesh_result;
+
+/* The checks on the paths of `o` that bgt_mesh_run makes before anything else
+ * (so a caller may make them before its own preparations, e.g. opening the
+ * height): one file named for OUT.ply and the map; OUT.ply over a non-PLY
+ * input; a map path that exists and is not a regular file. BG_OK or
+ * BG_ERR_INVALID_ARGUMENT. */
+bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e);
+
+/* Load the mesh (bg_mesh_load_ex: the import child), take or compute unit
+ * vertex normals, evaluate the height and perturb every normal (Mikkelsen 2010
+ * eq. 2 and 4, Listing 3), write OUT.ply (through common/safe_file.h; an
+ * existing device such as /dev/null is written in place) and/or bake and write
+ * the normal map (bg_image_write, itself temp + rename). The PLY is renamed
+ * into place only after the map was written. *r is filled on success.
+ * Status: BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT for bad input (paths,
+ * height, a missing or malformed mesh, a bake without UVs, a map name without
+ * an image format); BG_ERR_IO or BG_ERR_OUT_OF_MEMORY when the run fails. */
+bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e);
 
 #endif

@@ -303,6 +303,18 @@ bg_status render_image(const render_opts *o, render_result *r, bgt_err *e)
     memset(r, 0, sizeof *r);
     if ((rc = check_output(o->output, &type, &srgb, e)) != BG_OK)
         return rc;
+    if ((rc = bgt_io_ready(e)) != BG_OK)
+        return rc;
+    {
+        /* What render_run and the panel will allocate, checked against the one
+         * cap first: per method an RGB and a heat image, and per sample an
+         * error and an inward flag; the panel about (rows x methods) images. */
+        const double px = (double)o->width * o->height, ns = px * o->ss * o->ss;
+        const double per_method = px * 4.0 * 4.0 + ns * 5.0;
+        const double panel = o->compare ? (o->closeup ? 3.0 : 2.0) * px * 12.0 * 1.3 : 0.0;
+        if ((rc = bgt_check_alloc(o->nmethods * (per_method + panel), "this render", e)) != BG_OK)
+            return rc;
+    }
 
     render_mesh mesh;
     memset(&mesh, 0, sizeof mesh);

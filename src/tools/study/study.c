@@ -9,7 +9,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
-#include "cli.h"
+#include "common/safe_file.h"
 
 static uint64_t splitmix(uint64_t *s)
 {
@@ -74,15 +74,15 @@ double study_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-int study_mkdir(const char *cmd, const char *dir)
+bg_status study_mkdir(const char *dir, bgt_err *e)
 {
     if (mkdir(dir, 0777) == 0 || errno == EEXIST) {
         struct stat st;
         if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))
-            return 0;
-        return cli_fail(cmd, "%s exists and is not a folder", dir);
+            return BG_OK;
+        return bgt_fail(e, BG_ERR_IO, "%s exists and is not a folder", dir);
     }
-    return cli_fail(cmd, "cannot create folder %s: %s", dir, strerror(errno));
+    return bgt_fail(e, BG_ERR_IO, "cannot create folder %s: %s", dir, strerror(errno));
 }
 
 char *study_join(const char *dir, const char *name)
@@ -94,125 +94,42 @@ char *study_join(const char *dir, const char *name)
     return p;
 }
 
-int study_gnuplot(const char *cmd, const char *script_path, const char *const *outputs_tmp,
-                  const char *const *outputs, int count)
+bg_status study_gnuplot(const char *script_path, const char *const *outputs_tmp,
+                        const char *const *outputs, int count, const bgt_study_report *rep,
+                        bgt_err *e)
 {
     size_t n = strlen(script_path) + 64;
     char *line = malloc(n);
+    if (!line)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     snprintf(line, n, "gnuplot '%s' 2>&1", script_path);
     FILE *p = popen(line, "r");
     free(line);
     if (!p)
-        return cli_fail(cmd, "cannot run gnuplot: %s", strerror(errno));
+        return bgt_fail(e, BG_ERR_IO, "cannot run gnuplot: %s", strerror(errno));
     char buf[512];
-    int printed = 0;
+    int passed = 0;
     while (fgets(buf, sizeof buf, p)) {
         /* gnuplot warns about points it cannot draw on log axes; pass messages on. */
-        if (printed++ < 20)
-            fprintf(stderr, "gnuplot: %s", buf);
+        if (passed++ < 20 && rep && rep->gnuplot_output)
+            rep->gnuplot_output(rep->ctx, buf);
     }
     int st = pclose(p);
     if (st == -1 || !WIFEXITED(st) || WEXITSTATUS(st) != 0) {
         for (int k = 0; k < count; k++)
             remove(outputs_tmp[k]);
-        if (WIFEXITED(st) && WEXITSTATUS(st) == 127)
-            return cli_fail(cmd, "gnuplot not found (install gnuplot-nox; scripts/setup does)");
-        return cli_fail(cmd, "gnuplot failed on %s", script_path);
+        if (st != -1 && WIFEXITED(st) && WEXITSTATUS(st) == 127)
+            return bgt_fail(e, BG_ERR_IO, "gnuplot not found (install gnuplot-nox; scripts/setup does)");
+        return bgt_fail(e, BG_ERR_IO, "gnuplot failed on %s", script_path);
     }
-    for (int k = 0; k < count; k++)
-        if (cli_rename_into_place(cmd, outputs_tmp[k], outputs[k]))
-            return CLI_FAIL;
-        else
-            printf("wrote %s\n", outputs[k]);
-    return 0;
-}
-
-typedef struct pt {
-    double t, e;
-} pt;
-
-static int cmp_pt(const void *a, const void *b)
-{
-    const pt *x = a, *y = b;
-    return x->t < y->t ? -1 : x->t > y->t;
-}
-
-int study_chart_accuracy(const char *cmd, const char *dir)
-{
-    char *csv = study_join(dir, "accuracy.csv"), *gp = study_join(dir, "accuracy.gp");
-    char *png = study_join(dir, "accuracy.png"), *svg = study_join(dir, "accuracy.svg");
-    char *png_t = study_join(dir, ".accuracy.tmp.png"), *svg_t = study_join(dir, ".accuracy.tmp.svg");
-    int rc = CLI_FAIL;
-    FILE *in = fopen(csv, "r");
-    if (!in) {
-        cli_fail(cmd, "cannot read %s", csv);
-        goto done;
-    }
-    /* The Pareto front: sorted by time, keep each point more accurate than every
-     * faster one (mean error, zero-error points drawn at the floor 1e-7). */
-    pt pts[128];
-    int np = 0;
-    char line[512];
-    if (!fgets(line, sizeof line, in))
-        line[0] = 0;
-    while (np < 128 && fgets(line, sizeof line, in)) {
-        char m[32] = "", par[32] = "", pr[16] = "";
-        double ns, mean;
-        if (sscanf(line, "%31[^,],%31[^,],%15[^,],%lf,%lf", m, par, pr, &ns, &mean) == 5 ||
-            (sscanf(line, "%31[^,],,%15[^,],%lf,%lf", m, pr, &ns, &mean) == 4 && (par[0] = 0, 1))) {
-            pts[np].t = ns, pts[np].e = mean > 1e-7 ? mean : 1e-7;
-            np++;
+    for (int k = 0; k < count; k++) {
+        bg_status s = bgt_safe_commit_path(outputs_tmp[k], outputs[k], e);
+        if (s != BG_OK) {
+            for (int j = k + 1; j < count; j++)
+                remove(outputs_tmp[j]);
+            return s;
         }
+        study_wrote(rep, outputs[k]);
     }
-    fclose(in);
-    qsort(pts, (size_t)np, sizeof pts[0], cmp_pt);
-
-    cli_outfile of;
-    if (cli_outfile_open(cmd, gp, &of))
-        goto done;
-    FILE *f = of.fp;
-    fprintf(f, "# Made by `bumpgrad accuracy`; rerun it to regenerate. Reads accuracy.csv.\n");
-    fprintf(f, "$pareto << EOD\n");
-    double best = INFINITY;
-    for (int k = 0; k < np; k++)
-        if (pts[k].e < best) {
-            best = pts[k].e;
-            fprintf(f, "%g,%g\n", pts[k].t, pts[k].e);
-        }
-    fprintf(f, "EOD\n");
-    fprintf(f, "set datafile separator ','\n"
-               "set logscale xy\nset grid\nset format y '%%.0e'\n"
-               "set xlabel 'time per sample (ns, one thread)'\n"
-               "set ylabel 'mean angle error of n (degrees; exact drawn at 1e-7)'\n"
-               "set title 'bumpgrad: speed against accuracy of the perturbed normal'\n"
-               "set key outside right top\n"
-               "e(c) = (column(c) > 1e-7 ? column(c) : 1e-7)\n"
-               "sel(m, p) = (strcol(1) eq m && strcol(3) eq p)\n"
-               "lab = '(strcol(1).\" \".strcol(2))'\n");
-    const char *body =
-        "plot \\\n"
-        "  '%s' every ::1 using (sel('analytic','float32') ? $4 : 1/0):(e(5)) with points pt 7 ps 1.6 lc rgb '#d62728' title 'analytic f32', \\\n"
-        "  '%s' every ::1 using (sel('analytic','float64') ? $4 : 1/0):(e(5)) with points pt 5 ps 1.4 lc rgb '#8c564b' title 'analytic f64 (reference)', \\\n"
-        "  '%s' every ::1 using (sel('central','float32') ? $4 : 1/0):(e(5)) with linespoints pt 9 lc rgb '#1f77b4' title 'central f32 (h sweep)', \\\n"
-        "  '%s' every ::1 using (sel('central','float64') ? $4 : 1/0):(e(5)) with linespoints pt 11 lc rgb '#17becf' title 'central f64 (h sweep)', \\\n"
-        "  '%s' every ::1 using (sel('forward','float32') ? $4 : 1/0):(e(5)) with points pt 13 lc rgb '#9467bd' title 'forward f32', \\\n"
-        "  '%s' every ::1 using (sel('listing1','float32') ? $4 : 1/0):(e(5)) with linespoints pt 6 lc rgb '#2ca02c' title 'Listing 1 (pixel density)', \\\n"
-        "  '%s' every ::1 using (sel('truncated','float32') ? $4 : 1/0):(e(5)) with linespoints pt 4 lc rgb '#ff7f0e' title 'fewer octaves', \\\n"
-        "  '%s' every ::1 using (sel('fixed-octaves','float32') ? $4 : 1/0):(e(5)) with linespoints pt 8 lc rgb '#7f7f7f' title 'all 6 octaves vs pixel average', \\\n"
-        "  '%s' every ::1 using (sel('footprint','float32') ? $4 : 1/0):(e(5)) with linespoints pt 3 ps 1.4 lc rgb '#e377c2' title 'footprint-aware vs pixel average', \\\n"
-        "  '%s' every ::1 using 4:(e(5)):(strcol(2)) with labels offset 0.8,0.5 font ',7' notitle, \\\n"
-        "  $pareto using 1:2 with steps lw 2 dt 2 lc rgb '#444444' title 'Pareto front'\n";
-    fprintf(f, "set terminal pngcairo size 1100,700 noenhanced\nset output '%s'\n", png_t);
-    fprintf(f, body, csv, csv, csv, csv, csv, csv, csv, csv, csv, csv);
-    fprintf(f, "set terminal svg size 1100,700 noenhanced\nset output '%s'\n", svg_t);
-    fprintf(f, body, csv, csv, csv, csv, csv, csv, csv, csv, csv, csv);
-    if (cli_outfile_commit(cmd, &of))
-        goto done;
-    {
-        const char *tmp[2] = {png_t, svg_t}, *fin[2] = {png, svg};
-        rc = study_gnuplot(cmd, gp, tmp, fin, 2);
-    }
-done:
-    free(csv), free(gp), free(png), free(svg), free(png_t), free(svg_t);
-    return rc;
+    return BG_OK;
 }

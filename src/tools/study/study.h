@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
-/* Helpers shared by the measurement commands (`accuracy`, `stability`):
- * deterministic sampling, statistics, timing, output folders, gnuplot charts. */
+/* Helpers shared by the studies (accuracy.c, stability*.c): deterministic
+ * sampling, statistics, timing, output folders, running gnuplot. */
 #ifndef BUMPGRAD_STUDY_H
 #define BUMPGRAD_STUDY_H
 
 #include <stddef.h>
 #include <stdint.h>
+#include "common/tool.h"
+#include "study_tool.h"
 
 /* A uniformly distributed unit vector from a splitmix64 stream (deterministic). */
 void study_random_unit(uint64_t *state, double v[3]);
@@ -18,16 +20,25 @@ void study_percentiles(double *v, size_t n, double q, double *quantile, double *
 double study_median(double *v, size_t n);
 /* Monotonic time in seconds. */
 double study_now(void);
-/* mkdir -p for one level; error message names the folder. 0 or CLI_FAIL. */
-int study_mkdir(const char *cmd, const char *dir);
-/* dir + "/" + name, malloc'd. */
+/* mkdir for one level; an existing folder is fine. BG_ERR_IO naming the folder. */
+bg_status study_mkdir(const char *dir, bgt_err *e);
+/* dir + "/" + name, malloc'd (NULL when out of memory). */
 char *study_join(const char *dir, const char *name);
-/* Runs gnuplot on `script_path` (which writes to temporary names listed in
- * `outputs_tmp`) and renames each into `outputs`. If gnuplot is missing, says so
- * and returns CLI_FAIL. */
-int study_gnuplot(const char *cmd, const char *script_path, const char *const *outputs_tmp,
-                  const char *const *outputs, int count);
-/* Writes DIR/accuracy.gp from DIR/accuracy.csv and renders PNG and SVG. */
-int study_chart_accuracy(const char *cmd, const char *dir);
+/* Runs gnuplot on `script_path` (which writes to the temporary names
+ * `outputs_tmp`), passes its output to rep->gnuplot_output, and puts each
+ * temporary in place as `outputs` (bgt_safe_commit_path), reporting each
+ * through rep->wrote. A missing gnuplot is BG_ERR_IO and says so. */
+bg_status study_gnuplot(const char *script_path, const char *const *outputs_tmp,
+                        const char *const *outputs, int count, const bgt_study_report *rep,
+                        bgt_err *e);
+/* Writes DIR/accuracy.gp from DIR/accuracy.csv and renders PNG and SVG
+ * (accuracy_chart.c). */
+bg_status study_chart_accuracy(const char *dir, const bgt_study_report *rep, bgt_err *e);
+
+static inline void study_wrote(const bgt_study_report *rep, const char *path)
+{
+    if (rep && rep->wrote)
+        rep->wrote(rep->ctx, path);
+}
 
 #endif

@@ -1,0 +1,213 @@
+/* SPDX-License-Identifier: MIT */
+/* The conversions of `bumpgrad heightmap`: an image read as a height field ->
+ * a tangent-space normal map, after the seed "bump map generation from a
+ * diffuse texture" (gray = weighted sum of R, G, B; s = (1, 0, dH/ds),
+ * t = (0, 1, dH/dt), n = normalize(s x t) = normalize(-dH/ds, -dH/dt, 1)).
+ * With to_derivative, the reverse direction of the surface-gradient
+ * framework: a tangent-space normal map -> a derivative map (dh/du, dh/dv) =
+ * (-m.x/m.z, -m.y/m.z). */
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "bake/bake.h"
+#include "bumpgrad/framework.h"
+#include "bumpgrad/image.h"
+
+/* Extension of a path in lower case ("" if none), for format checks. */
+static void lower_ext(const char *path, char *out, size_t len)
+{
+    const char *slash = strrchr(path, '/');
+    const char *dot = strrchr(path, '.');
+    out[0] = '\0';
+    if (!dot || (slash && dot < slash))
+        return;
+    size_t i = 0;
+    for (dot++; *dot && i + 1 < len; dot++)
+        out[i++] = (char)tolower((unsigned char)*dot);
+    out[i] = '\0';
+}
+
+/* Formats that store only 8 bits or at most 16: OpenImageIO would silently
+ * narrow a wider request, so refuse it here. Unknown formats are allowed. */
+static int max_bits_for(const char *path)
+{
+    char e[16];
+    lower_ext(path, e, sizeof e);
+    static const char *const eight[] = {"jpg", "jpeg", "bmp", "tga", "gif", "webp", "ico"};
+    static const char *const sixteen[] = {"png", "ppm", "pgm", "pnm", "sgi", "rgb", "jp2"};
+    for (size_t i = 0; i < sizeof eight / sizeof eight[0]; i++)
+        if (strcmp(e, eight[i]) == 0)
+            return 8;
+    for (size_t i = 0; i < sizeof sixteen / sizeof sixteen[0]; i++)
+        if (strcmp(e, sixteen[i]) == 0)
+            return 16;
+    return 32;
+}
+
+static inline int edge_index(int i, int n, int wrap)
+{
+    if (wrap)
+        return ((i % n) + n) % n;
+    return i < 0 ? 0 : (i >= n ? n - 1 : i);
+}
+
+static void to_normal_map(const float *hgt, int w, int h, float strength, int wrap, int y_down,
+                          float *out)
+{
+    for (int y = 0; y < h; y++) {
+        const int up = edge_index(y - 1, h, wrap), down = edge_index(y + 1, h, wrap);
+        for (int x = 0; x < w; x++) {
+            const int l = edge_index(x - 1, w, wrap), r = edge_index(x + 1, w, wrap);
+            const double a = (double)hgt[(size_t)y * w + r] - hgt[(size_t)y * w + l];
+            double b = (double)hgt[(size_t)up * w + x] - hgt[(size_t)down * w + x];
+            if (y_down)
+                b = -b;
+            /* s x t with s = (1,0,S a), t = (0,1,S b). */
+            const double nx = -strength * a, ny = -strength * b, nz = 1.0;
+            const double inv = 1.0 / sqrt(nx * nx + ny * ny + nz * nz);
+            float *o = out + 3 * ((size_t)y * w + x);
+            o[0] = (float)(0.5 * nx * inv + 0.5);
+            o[1] = (float)(0.5 * ny * inv + 0.5);
+            o[2] = (float)(0.5 * nz * inv + 0.5);
+        }
+    }
+}
+
+/* First texel whose unpacked normal 2*s-1 is not finite, or (size_t)-1. Such
+ * a texel has no slope: without this check it came out as an arbitrary
+ * +-128 or 0 (NaN slipping through the clamps). */
+static size_t first_bad_normal(const bg_image *in)
+{
+    const size_t n = (size_t)in->width * in->height;
+    for (size_t p = 0; p < n; p++) {
+        const float *s = in->pixels + p * in->channels;
+        if (!isfinite(2.0f * s[0] - 1.0f) || !isfinite(2.0f * s[1] - 1.0f) ||
+            !isfinite(2.0f * s[2] - 1.0f))
+            return p;
+    }
+    return (size_t)-1;
+}
+
+static void to_derivative_map(const bg_image *in, int y_down, float *out)
+{
+    const size_t n = (size_t)in->width * in->height;
+    const int c = in->channels;
+    for (size_t p = 0; p < n; p++) {
+        const float *s = in->pixels + p * c;
+        bg_vec3 m = {2.0f * s[0] - 1.0f, 2.0f * s[1] - 1.0f, 2.0f * s[2] - 1.0f};
+        if (y_down)
+            m.y = -m.y;
+        /* The one rule of the library (framework.h): m.z mirrored to the
+         * visible side, slopes bounded by 128 along their own direction. */
+        const bg_vec2 d = bg_tangent_normal_to_derivs(m);
+        out[3 * p + 0] = d.x;
+        out[3 * p + 1] = d.y;
+        out[3 * p + 2] = 0.0f;
+    }
+}
+
+bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
+{
+    if (!o || !o->input || !o->output)
+        return bgt_fail(e, BG_ERR_NULL_POINTER, "expected IN OUT");
+    bg_status ready = bgt_io_ready(e);
+    if (ready != BG_OK)
+        return ready;
+    const char *in_path = o->input, *out_path = o->output;
+    const int seed_gray = o->gray == BGT_GRAY_SEED, wrap = o->wrap, y_down = o->y_down,
+              to_deriv = o->to_derivative;
+    const float strength = o->strength;
+    int bits = o->bits;
+    if (bits != 0 && bits != 8 && bits != 16 && bits != 32)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--bits: expected 8, 16 or float, got %d",
+                        bits);
+    if (!isfinite(strength))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--strength: must be finite, got %g",
+                        (double)strength);
+    if (bits == 0)
+        bits = to_deriv ? 32 : 8;
+    if (to_deriv && bits != 32)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--to-derivative writes float derivatives in [-128, 128]: "
+                                    "use --bits float (the default) and an .exr or .tif output");
+    if (bits > max_bits_for(out_path))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': this format cannot store %s samples; use .exr or .tif",
+                               out_path, bits == 32 ? "float" : "16-bit");
+
+    char err[1024];
+    bg_image in;
+    bg_status st = bg_image_read(in_path, &in, err, sizeof err);
+    if (st != BG_OK)
+        /* Missing, unreadable or not an image: bad input (2); only running
+         * out of memory is a runtime failure (1). */
+        return bgt_fail(e,
+                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
+                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
+                                                   : BG_ERR_INVALID_ARGUMENT,
+                        "%s", err);
+
+    const int w = in.width, h = in.height;
+    bg_image out;
+    if (bg_image_alloc(&out, w, h, 3) != BG_OK) {
+        bg_image_free(&in);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "'%s': out of memory for a %dx%d image", in_path, w, h);
+    }
+    bg_status rc = BG_OK;
+    if (to_deriv) {
+        if (in.channels < 3) {
+            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': a normal map needs 3 channels, this image has %d",
+                                 in_path, in.channels);
+            goto done;
+        }
+        const size_t bad = first_bad_normal(&in);
+        if (bad != (size_t)-1) {
+            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond float "
+                                      "range: a normal map needs finite values",
+                                 in_path, bad % (size_t)w, bad / (size_t)w);
+            goto done;
+        }
+        to_derivative_map(&in, y_down, out.pixels);
+    } else {
+        float *hgt = malloc(sizeof *hgt * (size_t)w * h);
+        if (!hgt) {
+            rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "'%s': out of memory for a %dx%d image", in_path, w, h);
+            goto done;
+        }
+        const float wr = seed_gray ? 0.33f : 0.2126f, wg = seed_gray ? 0.66f : 0.7152f,
+                    wb = seed_gray ? 0.11f : 0.0722f;
+        const int c = in.channels;
+        for (size_t p = 0; p < (size_t)w * h; p++) {
+            const float *s = in.pixels + p * c;
+            hgt[p] = c >= 3 ? wr * s[0] + wg * s[1] + wb * s[2] : s[0];
+        }
+        /* A NaN or Inf height (float input, or a gray sum past FLT_MAX) would
+         * make NaN normals around it: refuse it, naming the first pixel. */
+        for (size_t p = 0; p < (size_t)w * h; p++)
+            if (!isfinite(hgt[p])) {
+                free(hgt);
+                rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond "
+                                          "float range: a height image needs finite values",
+                                     in_path, p % (size_t)w, p / (size_t)w);
+                goto done;
+            }
+        to_normal_map(hgt, w, h, strength, wrap, y_down, out.pixels);
+        free(hgt);
+    }
+    {
+        const bg_pixel_type type =
+            bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
+        st = bg_image_write(out_path, &out, type, 0, err, sizeof err);
+        if (st != BG_OK)
+            /* A file name without an image format is bad input; only the
+             * writing itself failing is a run failure. */
+            rc = bgt_fail(e,
+                          st == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
+                          : st == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
+                                                        : BG_ERR_IO,
+                          "%s", err);
+    }
+done:
+    bg_image_free(&in);
+    bg_image_free(&out);
+    return rc;
+}

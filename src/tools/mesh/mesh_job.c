@@ -1,0 +1,437 @@
+/* SPDX-License-Identifier: MIT */
+/* The job of `bumpgrad mesh`: bump a real mesh (any format assimp reads) with a
+ * solid height field. Mikkelsen 2010 (eq. 2 and 4, Listing 3): n' = normalize(n
+ * - grad_S h) with grad_S h = g - n (n.g) needs only the position and the
+ * normal, so meshes without texture coordinates are bumped as they are. Per
+ * vertex the result goes to a PLY; with a bake path the same perturbation is
+ * evaluated per texel of the UV layout and written as a normal map.
+ * Format, conventions and measurements: docs/MESH.md. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include "common/parallel.h"
+#include "common/safe_file.h"
+#include "mesh/mesh_tool.h"
+
+/* Vertices per parallel chunk: large enough that the per-chunk scratch and the
+ * chunk bookkeeping are noise, small enough to balance two to 64 workers. */
+#define MESH_CHUNK 8192
+
+/* The option spellings of the CLI, for the PLY header comment. */
+static const char *function_name(bg_function f)
+{
+    static const char *const names[] = {"noise", "fbm", "turbulence"};
+    return (unsigned)f < 3 ? names[f] : "?";
+}
+static const char *method_name(bg_perturb_method m)
+{
+    static const char *const names[] = {"surfgrad", "additive", "additive-perlin"};
+    return (unsigned)m < 3 ? names[m] : "?";
+}
+
+/* Per-chunk summary, reduced in chunk order so that the means do not depend
+ * on which worker ran which chunk. */
+typedef struct chunk_stats {
+    size_t valid;        /* vertices with a normal */
+    size_t inward_surf, inward_add;
+    size_t nonfinite_height;
+    double sum_angle, max_angle; /* n vs n' of the chosen method */
+    double sum_cmp, max_cmp;     /* surfgrad vs additive */
+    double sum_height;
+    size_t finite_height;
+} chunk_stats;
+
+typedef struct vertex_job {
+    const bg_mesh *m;
+    const bgt_height *h;
+    bg_perturb_method method, other;
+    const float *ox, *oy, *oz;
+    float *nx, *ny, *nz, *height, *compare;
+    chunk_stats *stats;
+    atomic_int oom;
+} vertex_job;
+
+static int is_inward(const float *o, float x, float y, float z)
+{
+    double d = (double)o[0] * x + (double)o[1] * y + (double)o[2] * z;
+    return !(d > 0);
+}
+
+static void vertex_chunk(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    vertex_job *j = ctx;
+    size_t n = e - b;
+    chunk_stats *st = &j->stats[b / MESH_CHUNK];
+    memset(st, 0, sizeof *st);
+    float *scratch = malloc(6 * n * sizeof *scratch);
+    if (!scratch) {
+        atomic_store(&j->oom, 1);
+        return;
+    }
+    float *gx = scratch, *gy = scratch + n, *gz = scratch + 2 * n;
+    float *ax = scratch + 3 * n, *ay = scratch + 4 * n, *az = scratch + 5 * n;
+    /* One gradient evaluation serves both methods (the noise is the cost);
+     * bgt_height_gradient + bg_perturb_batch give the same bits as the fused
+     * bgt_height_perturb. */
+    bgt_height_gradient(j->h, j->m->px + b, j->m->py + b, j->m->pz + b, n, j->height + b, gx, gy,
+                        gz);
+    bg_perturb_batch(j->method, j->ox + b, j->oy + b, j->oz + b, gx, gy, gz, n, j->nx + b,
+                     j->ny + b, j->nz + b);
+    bg_perturb_batch(j->other, j->ox + b, j->oy + b, j->oz + b, gx, gy, gz, n, ax, ay, az);
+    int main_is_surf = j->method == BG_PERTURB_SURFGRAD;
+    for (size_t k = 0; k < n; k++) {
+        size_t i = b + k;
+        float hv = j->height[i];
+        if (isfinite(hv)) {
+            st->sum_height += hv;
+            st->finite_height++;
+        } else {
+            st->nonfinite_height++;
+        }
+        float o[3] = {j->ox[i], j->oy[i], j->oz[i]};
+        bg_vec3 ov = {o[0], o[1], o[2]};
+        bg_vec3 mv = {j->nx[i], j->ny[i], j->nz[i]};
+        bg_vec3 av = {ax[k], ay[k], az[k]};
+        bg_vec3 sv = main_is_surf ? mv : av, dv = main_is_surf ? av : mv;
+        if (o[0] == 0.0f && o[1] == 0.0f && o[2] == 0.0f) {
+            if (j->compare)
+                j->compare[i] = NAN; /* no normal, no angle */
+            continue;
+        }
+        st->valid++;
+        double a = bg_angle_deg(ov, mv);
+        st->sum_angle += a;
+        if (a > st->max_angle)
+            st->max_angle = a;
+        double c = bg_angle_deg(sv, dv);
+        st->sum_cmp += c;
+        if (c > st->max_cmp)
+            st->max_cmp = c;
+        if (j->compare)
+            j->compare[i] = (float)c;
+        st->inward_surf += (size_t)is_inward(o, sv.x, sv.y, sv.z);
+        st->inward_add += (size_t)is_inward(o, dv.x, dv.y, dv.z);
+    }
+    free(scratch);
+}
+
+static int ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    if (k > n)
+        return 0;
+    for (size_t i = 0; i < k; i++) {
+        char c = s[n - k + i];
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != suffix[i])
+            return 0;
+    }
+    return 1;
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* An existing output that is not a regular file (and not a directory, which
+ * the safe-output path reports as an error). */
+static int is_device(const char *path)
+{
+    struct stat st;
+    if (strcmp(path, "-") == 0 || stat(path, &st) != 0)
+        return 0;
+    return !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+
+/* Two names for one file: the same text, or both existing with one inode. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (strcmp(a, b) == 0)
+        return 1;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e)
+{
+    if (!o || !o->input || !o->height)
+        return bgt_fail(e, BG_ERR_NULL_POINTER, "no input mesh or height given");
+    const char *in_path = o->input, *out_path = o->output, *bake_path = o->bake_path;
+    if (!out_path && !bake_path)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "missing OUT.ply (or --bake-normal-map FILE)");
+    if (bake_path && !(o->bake.width > 0 && o->bake.height > 0))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--bake-normal-map needs --size N (or WxH)");
+    /* One path for the PLY and the map: the later rename silently replaced
+     * the other output (exit 0, the bake lost). */
+    if (out_path && bake_path && same_file(out_path, bake_path))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "OUT.ply and --bake-normal-map name the same file %s", out_path);
+    /* A PLY written over a mesh of another format destroys the source (a PLY
+     * input may be updated in place: same format, like heightmap IN = OUT). */
+    if (out_path && strcmp(out_path, "-") != 0 && !ends_with_ci(in_path, ".ply") &&
+        same_file(in_path, out_path))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "OUT.ply %s is the input mesh, which is not a PLY: writing it would "
+                        "replace the source",
+                        out_path);
+    if (bake_path && is_device(bake_path))
+        /* The image writer renames a temporary file into place, which would
+         * replace a device node such as /dev/null with a regular file. */
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--bake-normal-map: %s exists and is not a regular file", bake_path);
+    return BG_OK;
+}
+
+/* Vertex normals: the file's, normalized, or angle-weighted ones (allocated
+ * into *ox..*oz). Returns the number of sentinels or (size_t)-1 (out of memory). */
+static size_t take_normals(bg_mesh *m, int file_normals, float **ox, float **oy, float **oz)
+{
+    size_t nv = m->vertex_count;
+    if (file_normals) {
+        *ox = m->nx;
+        *oy = m->ny;
+        *oz = m->nz;
+        return mesh_normalize_normals(nv, *ox, *oy, *oz);
+    }
+    *ox = malloc(nv * sizeof **ox);
+    *oy = malloc(nv * sizeof **oy);
+    *oz = malloc(nv * sizeof **oz);
+    return *ox && *oy && *oz ? mesh_vertex_normals(m, *ox, *oy, *oz) : (size_t)-1;
+}
+
+/* Sum the chunk statistics in chunk order into *r. */
+static void reduce_stats(const chunk_stats *stats, size_t nchunks, bgt_mesh_result *r)
+{
+    chunk_stats tot;
+    memset(&tot, 0, sizeof tot);
+    for (size_t c = 0; c < nchunks; c++) {
+        const chunk_stats *s = &stats[c];
+        tot.valid += s->valid;
+        tot.inward_surf += s->inward_surf;
+        tot.inward_add += s->inward_add;
+        tot.nonfinite_height += s->nonfinite_height;
+        tot.sum_angle += s->sum_angle;
+        tot.sum_cmp += s->sum_cmp;
+        tot.sum_height += s->sum_height;
+        tot.finite_height += s->finite_height;
+        if (s->max_angle > tot.max_angle)
+            tot.max_angle = s->max_angle;
+        if (s->max_cmp > tot.max_cmp)
+            tot.max_cmp = s->max_cmp;
+    }
+    double valid = tot.valid ? (double)tot.valid : 1.0;
+    r->valid = tot.valid;
+    r->finite_height = tot.finite_height;
+    r->nonfinite_height = tot.nonfinite_height;
+    r->mean_height = tot.finite_height ? tot.sum_height / (double)tot.finite_height : 0.0;
+    r->mean_angle = tot.sum_angle / valid;
+    r->max_angle = tot.max_angle;
+    r->inward_surf = tot.inward_surf;
+    r->inward_other = tot.inward_add;
+    r->mean_compare = tot.sum_cmp / valid;
+    r->max_compare = tot.max_cmp;
+}
+
+bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
+{
+    bg_status st = bgt_mesh_check(o, e);
+    if (st != BG_OK)
+        return st;
+    if (!r)
+        return bgt_fail(e, BG_ERR_NULL_POINTER, "no result given");
+    memset(r, 0, sizeof *r);
+    if ((st = bgt_io_ready(e)) != BG_OK)
+        return st;
+    const char *in_path = o->input, *out_path = o->output, *bake_path = o->bake_path;
+    bgt_height h = *o->height;
+    h.grid = NULL;
+    if ((st = bgt_height_open(&h, e)) != BG_OK)
+        return st;
+    const bg_perturb_method method = o->method;
+    const int threads = o->threads == 0 ? bgt_threads_default() : o->threads;
+    r->threads = threads;
+
+    bg_mesh m;
+    char err[512];
+    double t0 = now_seconds();
+    st = bg_mesh_load_ex(in_path, o->join | (o->recompute_normals ? BG_MESH_DROP_NORMALS : 0u), &m,
+                         err, sizeof err);
+    if (st != BG_OK) {
+        bgt_height_close(&h);
+        /* Missing, unreadable or malformed input is the user's to fix (2);
+         * only running out of memory is a runtime failure. */
+        return bgt_fail(e,
+                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
+                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
+                                                   : BG_ERR_INVALID_ARGUMENT,
+                        "%s", err);
+    }
+    if (bake_path && !m.u) {
+        bg_mesh_free(&m);
+        bgt_height_close(&h);
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "'%s' has no texture coordinates (UV set 0): --bake-normal-map needs "
+                        "them; without the bake, vertex mode works on this mesh",
+                        in_path);
+    }
+
+    size_t nv = m.vertex_count, nt = m.triangle_count;
+    size_t nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
+    int file_normals = m.nx != NULL;
+    float *ox = NULL, *oy = NULL, *oz = NULL;
+    float *outs = NULL;
+    chunk_stats *stats = NULL;
+    bg_image img = {0, 0, 0, NULL};
+    bgt_safe_file of = {NULL, NULL, NULL};
+    FILE *devout = NULL;
+    st = BG_OK;
+    r->vertex_count = nv;
+    r->triangle_count = nt;
+    r->mesh_count = m.mesh_count;
+    r->dropped_primitives = m.dropped_primitives;
+    r->file_normals = file_normals;
+
+    double t_load = now_seconds();
+    size_t no_normal = take_normals(&m, file_normals, &ox, &oy, &oz);
+    if (no_normal == (size_t)-1) {
+        st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the normals of %zu vertices", nv);
+        goto done;
+    }
+    r->no_normal = no_normal;
+    for (size_t t = 0; t < nt; t++)
+        r->unusable_triangles += (size_t)!mesh_triangle_usable(&m, t);
+    for (size_t i = 0; i < nv; i++)
+        r->nonfinite_positions +=
+            (size_t)!(isfinite(m.px[i]) && isfinite(m.py[i]) && isfinite(m.pz[i]));
+
+    /* nx ny nz height [compare]: the only per-vertex arrays besides the mesh. */
+    outs = malloc(nv * (size_t)(o->compare ? 5 : 4) * sizeof *outs);
+    stats = calloc(nchunks ? nchunks : 1, sizeof *stats);
+    if (!outs || !stats) {
+        st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu vertices", nv);
+        goto done;
+    }
+    vertex_job job = {.m = &m, .h = &h, .method = method,
+                      .other = method == BG_PERTURB_SURFGRAD ? BG_PERTURB_ADDITIVE
+                                                             : BG_PERTURB_SURFGRAD,
+                      .ox = ox, .oy = oy, .oz = oz,
+                      .nx = outs, .ny = outs + nv, .nz = outs + 2 * nv, .height = outs + 3 * nv,
+                      .compare = o->compare ? outs + 4 * nv : NULL, .stats = stats};
+    atomic_init(&job.oom, 0);
+    double t_normals = now_seconds();
+    bgt_parallel_for(nv, MESH_CHUNK, threads, vertex_chunk, &job);
+    double t_perturb = now_seconds();
+    if (atomic_load(&job.oom)) {
+        st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while perturbing");
+        goto done;
+    }
+    reduce_stats(stats, nchunks, r);
+
+    double t_bake0 = now_seconds();
+    if (bake_path) {
+        mesh_bake_opts bake = o->bake;
+        bake.method = method;
+        bake.threads = threads;
+        if ((st = mesh_bake(&m, ox, oy, oz, &h, &bake, &img, &r->bake, e)) != BG_OK)
+            goto done;
+    }
+    double t_bake1 = now_seconds();
+
+    /* The PLY goes to a temporary file first and is renamed only after the
+     * map is in place too, so a failing bake leaves the old OUT.ply alone. */
+    if (out_path) {
+        char comment[400];
+        const bg_height *hh = &h.h;
+        snprintf(comment, sizeof comment,
+                 "bumpgrad %s mesh method=%s function=%s octaves=%d lacunarity=%g gain=%g "
+                 "amplitude=%g frequency=%g gradient=%s normals=%s",
+                 bg_version_string(), method_name(method), function_name(hh->fractal.function),
+                 hh->fractal.octaves, (double)hh->fractal.lacunarity, (double)hh->fractal.gain,
+                 (double)hh->amplitude, (double)hh->frequency,
+                 hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic",
+                 file_normals ? "file" : "angle-weighted");
+        mesh_ply_out d = {.vertex_count = nv, .triangle_count = nt,
+                          .px = m.px, .py = m.py, .pz = m.pz,
+                          .nx = job.nx, .ny = job.ny, .nz = job.nz,
+                          .ox = ox, .oy = oy, .oz = oz, .height = job.height,
+                          .compare = job.compare, .u = m.u, .v = m.v, .indices = m.indices,
+                          .comment = comment, .ascii = o->ascii};
+        if (is_device(out_path)) {
+            /* /dev/null, a FIFO, a terminal: there is nothing to replace
+             * atomically, and renaming a temporary file over the device
+             * node would destroy it. */
+            if (!(devout = fopen(out_path, "wb"))) {
+                st = bgt_fail(e, BG_ERR_IO, "cannot open output %s: %s", out_path,
+                              strerror(errno));
+                goto done;
+            }
+        } else if ((st = bgt_safe_open(&of, out_path, e)) != BG_OK) {
+            goto done;
+        }
+        if (mesh_ply_write(devout ? devout : of.fp, &d)) {
+            st = bgt_fail(e, BG_ERR_IO, "writing %s failed", out_path);
+            goto done;
+        }
+    }
+    if (bake_path) {
+        bg_pixel_type type = (bg_pixel_type)o->bake_depth;
+        if (o->bake_depth < 0)
+            type = ends_with_ci(bake_path, ".exr") ? BG_PIXEL_HALF : BG_PIXEL_U8;
+        bg_status ws = bg_image_write(bake_path, &img, type, 0, err, sizeof err);
+        if (ws != BG_OK) {
+            /* A file name without an image format is bad input, as in
+             * heightmap; only the writing itself failing is an I/O failure. */
+            st = bgt_fail(e,
+                          ws == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
+                          : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
+                                                        : BG_ERR_IO,
+                          "%s", err);
+            goto done;
+        }
+    }
+    if (devout) {
+        int bad = fclose(devout) != 0;
+        devout = NULL;
+        if (bad) {
+            st = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s", out_path, strerror(errno));
+            goto done;
+        }
+    } else if (out_path && (st = bgt_safe_commit(&of, e)) != BG_OK) {
+        goto done;
+    }
+
+    double t_end = now_seconds();
+    r->t_load = t_load - t0;
+    r->t_normals = t_normals - t_load;
+    r->t_perturb = t_perturb - t_normals;
+    r->t_bake = bake_path ? t_bake1 - t_bake0 : 0.0;
+    r->t_write = t_end - (bake_path ? t_bake1 : t_bake0);
+
+done:
+    if (devout)
+        fclose(devout);
+    if (of.fp)
+        bgt_safe_abort(&of);
+    bg_image_free(&img);
+    free(outs);
+    free(stats);
+    if (!file_normals) {
+        free(ox);
+        free(oy);
+        free(oz);
+    }
+    bg_mesh_free(&m);
+    bgt_height_close(&h);
+    return st;
+}
