@@ -352,7 +352,7 @@ bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh 
 {
     bg_status (*f)(const char *, const char *, const bg_mesh *, char *, size_t);
     GET(f, "bg_mesh_export", 1);
-    return f ? f(path, format_id, mesh, err, errlen) : unavailable(err, errlen);
+    return f ? f(path, format_id, mesh, err, errlen) : unavailable("bg_mesh_export", err, errlen);
 }
 
 void bg_mesh_free(bg_mesh *mesh)

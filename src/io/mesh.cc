@@ -547,7 +547,7 @@ bg_status export_scene(const char *path, const char *format_id, const bg_mesh *m
                        size_t errlen)
 {
     if (m->vertex_count > UINT32_MAX || m->triangle_count > UINT32_MAX) {
-        set_error(err, errlen, "'%s': mesh too large to export", path);
+        bg_io_set_error(err, errlen, "'%s': mesh too large to export", path);
         return BG_ERR_INVALID_ARGUMENT;
     }
     const unsigned nv = static_cast<unsigned>(m->vertex_count);
@@ -592,7 +592,7 @@ bg_status export_scene(const char *path, const char *format_id, const bg_mesh *m
     Assimp::Exporter exporter;
     if (exporter.Export(scene.get(), format_id, path) != AI_SUCCESS) {
         const char *why = exporter.GetErrorString();
-        set_error(err, errlen, "'%s': the mesh exporter (assimp, %s) failed: %s", path, format_id,
+        bg_io_set_error(err, errlen, "'%s': the mesh exporter (assimp, %s) failed: %s", path, format_id,
                   why && *why ? why : "unknown error");
         return BG_ERR_IO;
     }
@@ -607,19 +607,19 @@ bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh 
                          size_t errlen)
 {
     if (!path || !format_id || !mesh || !mesh->px || !mesh->indices) {
-        set_error(err, errlen, "bg_mesh_export: NULL argument");
+        bg_io_set_error(err, errlen, "bg_mesh_export: NULL argument");
         return BG_ERR_NULL_POINTER;
     }
     try {
         return export_scene(path, format_id, mesh, err, errlen);
     } catch (const std::bad_alloc &) {
-        set_error(err, errlen, "'%s': out of memory while exporting", path);
+        bg_io_set_error(err, errlen, "'%s': out of memory while exporting", path);
         return BG_ERR_OUT_OF_MEMORY;
     } catch (const std::exception &e) {
-        set_error(err, errlen, "'%s': the mesh exporter failed (%s)", path, e.what());
+        bg_io_set_error(err, errlen, "'%s': the mesh exporter failed (%s)", path, e.what());
         return BG_ERR_IO;
     } catch (...) {
-        set_error(err, errlen, "'%s': the mesh exporter failed", path);
+        bg_io_set_error(err, errlen, "'%s': the mesh exporter failed", path);
         return BG_ERR_IO;
     }
 }
