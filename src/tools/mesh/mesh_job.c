@@ -166,7 +166,10 @@ static int same_file(const char *a, const char *b)
 
 mesh_out_format mesh_out_format_of(const char *path)
 {
-    if (!path || strcmp(path, "-") == 0 || is_device(path) || ends_with_ci(path, ".ply"))
+    struct stat sb;
+    /* an existing folder keeps failing as it did, when it is opened (exit 1) */
+    int folder = path && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+    if (!path || folder || strcmp(path, "-") == 0 || is_device(path) || ends_with_ci(path, ".ply"))
         return MESH_OUT_PLY;
     if (ends_with_ci(path, ".glb"))
         return MESH_OUT_GLB;
