@@ -35,6 +35,12 @@ typedef struct bg_mesh {
                                 seen from the side the normals point to */
     size_t mesh_count;     /**< meshes of the scene that were flattened (instances counted) */
     size_t dropped_primitives; /**< points and lines that were not triangles */
+    /** Per-vertex tangents stored in the file (glTF TANGENT, FBX, ...): unit
+     *  xyz and the bitangent sign tw = +1 / -1 (b = tw cross(n, t)), or all
+     *  four NULL unless every mesh has tangents, normals and UVs. Normals and
+     *  tangents went through the node transform alike (normals by the inverse
+     *  transpose); tw is the handedness after it. */
+    float *tx, *ty, *tz, *tw;
 } bg_mesh;
 
 /** Loading options (bit flags) for bg_mesh_load_ex. */
@@ -76,6 +82,16 @@ BG_API bg_status bg_mesh_load(const char *path, bg_mesh *out, char *err, size_t 
  *  Thread-safe (each call uses its own importer). */
 BG_API bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
                                  size_t errlen);
+
+/** Write positions, normals (if nx), UV set 0 (if u) and the triangles of
+ *  `mesh` to `path` with assimp's exporter `format_id` (as `assimp
+ *  listexport` names them, e.g. "objnomtl": Wavefront OBJ without a material
+ *  file). Writes `path` directly: the caller gives a temporary name and
+ *  renames it. BG_OK; BG_ERR_NULL_POINTER; BG_ERR_INVALID_ARGUMENT (more than
+ *  2^32-1 vertices or triangles); BG_ERR_IO (the exporter failed, message in
+ *  err); BG_ERR_OUT_OF_MEMORY. */
+BG_API bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh *mesh,
+                                char *err, size_t errlen);
 
 /** Free the arrays of a mesh and zero it; NULL and an already freed mesh are fine. */
 BG_API void bg_mesh_free(bg_mesh *mesh);

@@ -12,7 +12,7 @@
 static void mesh_help(FILE *fp)
 {
     fprintf(fp,
-            "Usage: bumpgrad mesh [options] IN [OUT.ply]\n"
+            "Usage: bumpgrad mesh [options] IN [OUT.ply|OUT.glb|OUT.gltf|OUT.obj]\n"
             "\n"
             "Bump the vertex normals of a mesh (OBJ, PLY, OFF, STL, glTF, ... through\n"
             "assimp) with a solid height field h, and/or bake a normal map:\n"
@@ -25,6 +25,9 @@ static void mesh_help(FILE *fp)
             "(perturbed unit normal), ox oy oz (original unit normal), height, then\n"
             "compare_deg with --compare, then s t if IN has UVs; faces as triangles.\n"
             "A vertex without a valid normal has (0,0,0) in nx..nz and ox..oz.\n"
+            "OUT.glb / OUT.gltf (glTF 2.0): POSITION, NORMAL (perturbed), TEXCOORD_0 and\n"
+            "TANGENT (mikkTSpace of the perturbed normals, VEC4 with the sign) if IN has\n"
+            "UVs. OUT.obj: positions, perturbed normals, UVs. Other extensions: refused.\n"
             "\n"
             "Options:\n"
             "  --method M            surfgrad (default), additive or additive-perlin\n"
@@ -47,7 +50,15 @@ static void mesh_help(FILE *fp)
             "  --space S             tangent (default; mikkTSpace convention) or object\n"
             "  --padding P           dilate the baked texels into empty ones P times\n"
             "                        (default 4)\n"
-            "  --bake-depth D        8, 16, half or float (default: half for .exr, else 8)\n");
+            "  --bake-depth D        8, 16, half or float (default: half for .exr, else 8)\n"
+            "  --tangents T          tangent frame of --space tangent: mikktspace (default;\n"
+            "                        mikkTSpace of the vertex normals and UVs, what Blender,\n"
+            "                        Unity, Unreal, Substance and glTF viewers rebuild) or\n"
+            "                        file (the tangents stored in IN, e.g. glTF TANGENT)\n"
+            "  --normal-map-y Y      +y (default; OpenGL, Blender, glTF, Unity) or -y\n"
+            "                        (DirectX, Unreal): the green channel's direction\n"
+            "UV islands that overlap in the map are counted in the summary (the later\n"
+            "triangle wins a shared texel); that is not an error.\n");
     cli_height_help(fp);
     fprintf(fp,
             "\n"
@@ -88,6 +99,8 @@ int cmd_mesh(int argc, char **argv)
     unsigned join = BG_MESH_JOIN_AUTO;
     mesh_bake_opts bake = {.width = 0, .height = 0, .space = MESH_BAKE_TANGENT, .padding = 4};
     int bake_depth = -1;
+    bake.tangents = MESH_TANGENTS_MIKK;
+    bake.green_down = 0;
     long l;
     bgt_height h;
     bgt_height_init(&h);
@@ -146,6 +159,25 @@ int cmd_mesh(int argc, char **argv)
                 (rc = cli_parse_int(cmd, o, v, 0, 4096, &l)))
                 return rc;
             bake.padding = (int)l;
+        } else if (strcmp(o, "--tangents") == 0) {
+            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
+                return rc;
+            if (strcmp(v, "mikktspace") == 0)
+                bake.tangents = MESH_TANGENTS_MIKK;
+            else if (strcmp(v, "file") == 0)
+                bake.tangents = MESH_TANGENTS_FILE;
+            else
+                return cli_usage_error(cmd, "--tangents: expected mikktspace or file, got \"%s\"",
+                                       v);
+        } else if (strcmp(o, "--normal-map-y") == 0) {
+            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
+                return rc;
+            if (strcmp(v, "+y") == 0)
+                bake.green_down = 0;
+            else if (strcmp(v, "-y") == 0)
+                bake.green_down = 1;
+            else
+                return cli_usage_error(cmd, "--normal-map-y: expected +y or -y, got \"%s\"", v);
         } else if (strcmp(o, "--bake-depth") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
                 return rc;
@@ -221,8 +253,22 @@ int cmd_mesh(int argc, char **argv)
                     bake_path, bake.width, bake.height,
                     bake.space == MESH_BAKE_TANGENT ? "tangent" : "object", r.bake.covered,
                     r.bake.padded, r.bake.skipped);
+        if (bake_path && bake.space == MESH_BAKE_TANGENT && bake.tangents == MESH_TANGENTS_FILE)
+            fprintf(fp, "tangents: from the file, green %s\n", bake.green_down ? "-y" : "+y");
+        else if (bake_path && bake.space == MESH_BAKE_TANGENT)
+            fprintf(fp, "tangents: mikkTSpace, %zu welded vertices, %zu fans, %zu degenerate and "
+                        "%zu zero-UV-area triangles, %zu corners without a fan; green %s\n",
+                    r.bake.mikk.welded_vertices, r.bake.mikk.fans, r.bake.mikk.degenerate,
+                    r.bake.mikk.zero_uv_area, r.bake.mikk.unreached,
+                    bake.green_down ? "-y" : "+y");
+        if (bake_path)
+            fprintf(fp, "UV islands: %zu, %zu of them in overlaps (%zu texels strictly inside two "
+                        "or more triangles; the later triangle wins)%s\n",
+                    r.bake.islands, r.bake.overlap_islands, r.bake.overlap_texels,
+                    r.bake.overlap_islands ? " WARNING: overlapping UVs" : "");
         if (out_path)
-            fprintf(fp, "wrote %s (%s PLY)\n", out_path, ascii ? "ASCII" : "binary little-endian");
+            fprintf(fp, "wrote %s (%s)\n", out_path,
+                    mesh_out_format_name(mesh_out_format_of(out_path), ascii));
         fprintf(fp, "time: load %.3f s, normals %.3f s, height+perturb %.3f s (%d threads), "
                     "bake %.3f s, write %.3f s\n",
                 r.t_load, r.t_normals, r.t_perturb, r.threads, r.t_bake, r.t_write);

@@ -347,6 +347,14 @@ bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *
     return f ? f(path, flags, out, err, errlen) : unavailable("bg_mesh_load_ex", err, errlen);
 }
 
+bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh *mesh, char *err,
+                         size_t errlen)
+{
+    bg_status (*f)(const char *, const char *, const bg_mesh *, char *, size_t);
+    GET(f, "bg_mesh_export", 1);
+    return f ? f(path, format_id, mesh, err, errlen) : unavailable("bg_mesh_export", err, errlen);
+}
+
 void bg_mesh_free(bg_mesh *mesh)
 {
     /* Without the module loaded no mesh can have come from it: nothing to free. */

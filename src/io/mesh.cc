@@ -5,6 +5,7 @@
 #include "bumpgrad/mesh.h"
 #include "io_util.h"
 
+#include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -18,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <algorithm>
+#include <memory>
 #include <new>
 #include <string>
 #include <vector>
@@ -196,7 +198,7 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     }
 
     size_t nv = 0, nt = 0, dropped = 0;
-    bool normals = !drop_normals, uvs = true;
+    bool normals = !drop_normals, uvs = true, tangents = true;
     for (const instance &in : inst) {
         const aiMesh *m = in.mesh;
         nv += m->mNumVertices;
@@ -208,7 +210,9 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
         }
         normals = normals && m->HasNormals();
         uvs = uvs && m->HasTextureCoords(0);
+        tangents = tangents && m->HasTangentsAndBitangents();
     }
+    tangents = tangents && normals && uvs;
     if (nt == 0) {
         bg_io_set_error(err, errlen, "'%s': no triangles in the mesh (%zu vertices, %zu points/lines)",
                   path, nv, dropped);
@@ -239,6 +243,13 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
         m.u = alloc_array<float>(nv);
         m.v = alloc_array<float>(nv);
         ok = ok && m.u && m.v;
+    }
+    if (tangents) {
+        m.tx = alloc_array<float>(nv);
+        m.ty = alloc_array<float>(nv);
+        m.tz = alloc_array<float>(nv);
+        m.tw = alloc_array<float>(nv);
+        ok = ok && m.tx && m.ty && m.tz && m.tw;
     }
     m.indices = alloc_array<uint32_t>(nt * 3 >= nt ? nt * 3 : SIZE_MAX);
     ok = ok && m.indices;
@@ -285,6 +296,25 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             if (uvs) {
                 m.u[base + i] = am->mTextureCoords[0][i].x;
                 m.v[base + i] = am->mTextureCoords[0][i].y;
+            }
+            if (tangents) {
+                // A tangent is a surface direction: it goes through the
+                // transform itself, as the bitangent does; the sign is the
+                // handedness of (n, t, b) after the transform (assimp's glTF
+                // importer stores b = w cross(n, t)).
+                aiVector3D n = am->mNormals[i], tg = am->mTangents[i], b = am->mBitangents[i];
+                if (!in.identity) {
+                    n = normal_matrix * n;
+                    tg = linear * tg;
+                    b = linear * b;
+                }
+                float len = tg.Length();
+                if (len > 0.0f && std::isfinite(len))
+                    tg /= len;
+                m.tx[base + i] = tg.x;
+                m.ty[base + i] = tg.y;
+                m.tz[base + i] = tg.z;
+                m.tw[base + i] = ((n ^ tg) * b) < 0.0f ? -1.0f : 1.0f;
             }
         }
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
@@ -340,7 +370,7 @@ bg_status import_guarded(const char *path, unsigned flags, bg_mesh *out, char *e
 
 struct wire_header {
     int32_t status;
-    int32_t has_normals, has_uvs;
+    int32_t has_normals, has_uvs, has_tangents;
     uint64_t vertex_count, triangle_count, mesh_count, dropped;
     char err[512];
 };
@@ -403,13 +433,15 @@ size_t child_memory_cap(const char *path)
     }
     h.has_normals = m.nx != nullptr;
     h.has_uvs = m.u != nullptr;
+    h.has_tangents = m.tx != nullptr;
     h.vertex_count = m.vertex_count;
     h.triangle_count = m.triangle_count;
     h.mesh_count = m.mesh_count;
     h.dropped = m.dropped_primitives;
     bool ok = write_all(fd, &h, sizeof h);
     size_t nv = m.vertex_count * sizeof(float);
-    const float *arrays[] = {m.px, m.py, m.pz, m.nx, m.ny, m.nz, m.u, m.v};
+    const float *arrays[] = {m.px, m.py, m.pz, m.nx, m.ny, m.nz, m.u, m.v,
+                             m.tx, m.ty, m.tz, m.tw};
     for (const float *a : arrays)
         if (ok && a)
             ok = write_all(fd, a, nv);
@@ -454,9 +486,11 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
             m.mesh_count = h.mesh_count;
             m.dropped_primitives = h.dropped;
             size_t nv = m.vertex_count;
-            float **arrays[] = {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v};
-            for (int k = 0; k < 8 && got; ++k) {
-                if ((k >= 3 && k < 6 && !h.has_normals) || (k >= 6 && !h.has_uvs))
+            float **arrays[] = {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v,
+                                &m.tx, &m.ty, &m.tz, &m.tw};
+            for (int k = 0; k < 12 && got; ++k) {
+                if ((k >= 3 && k < 6 && !h.has_normals) || (k >= 6 && k < 8 && !h.has_uvs) ||
+                    (k >= 8 && !h.has_tangents))
                     continue;
                 *arrays[k] = alloc_array<float>(nv);
                 if (!*arrays[k]) {
@@ -509,9 +543,86 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
     return BG_OK;
 }
 
+bg_status export_scene(const char *path, const char *format_id, const bg_mesh *m, char *err,
+                       size_t errlen)
+{
+    if (m->vertex_count > UINT32_MAX || m->triangle_count > UINT32_MAX) {
+        bg_io_set_error(err, errlen, "'%s': mesh too large to export", path);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    const unsigned nv = static_cast<unsigned>(m->vertex_count);
+    const unsigned nt = static_cast<unsigned>(m->triangle_count);
+    // The scene owns everything below (aiScene's destructor deletes its
+    // meshes, materials and nodes, aiMesh's its arrays).
+    std::unique_ptr<aiScene> scene(new aiScene());
+    scene->mRootNode = new aiNode();
+    scene->mRootNode->mNumMeshes = 1;
+    scene->mRootNode->mMeshes = new unsigned[1]{0};
+    scene->mNumMaterials = 1;
+    scene->mMaterials = new aiMaterial *[1] { new aiMaterial() };
+    scene->mNumMeshes = 1;
+    scene->mMeshes = new aiMesh *[1] { new aiMesh() };
+    aiMesh *am = scene->mMeshes[0];
+    am->mMaterialIndex = 0;
+    am->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+    am->mNumVertices = nv;
+    am->mVertices = new aiVector3D[nv];
+    if (m->nx)
+        am->mNormals = new aiVector3D[nv];
+    if (m->u) {
+        am->mTextureCoords[0] = new aiVector3D[nv];
+        am->mNumUVComponents[0] = 2;
+    }
+    for (unsigned i = 0; i < nv; ++i) {
+        am->mVertices[i] = aiVector3D(m->px[i], m->py[i], m->pz[i]);
+        if (m->nx)
+            am->mNormals[i] = aiVector3D(m->nx[i], m->ny[i], m->nz[i]);
+        if (m->u)
+            am->mTextureCoords[0][i] = aiVector3D(m->u[i], m->v[i], 0.0f);
+    }
+    am->mNumFaces = nt;
+    am->mFaces = new aiFace[nt];
+    for (unsigned t = 0; t < nt; ++t) {
+        aiFace &f = am->mFaces[t];
+        f.mNumIndices = 3;
+        f.mIndices = new unsigned[3];
+        for (unsigned c = 0; c < 3; ++c)
+            f.mIndices[c] = m->indices[3 * static_cast<size_t>(t) + c];
+    }
+    Assimp::Exporter exporter;
+    if (exporter.Export(scene.get(), format_id, path) != AI_SUCCESS) {
+        const char *why = exporter.GetErrorString();
+        bg_io_set_error(err, errlen, "'%s': the mesh exporter (assimp, %s) failed: %s", path, format_id,
+                  why && *why ? why : "unknown error");
+        return BG_ERR_IO;
+    }
+    return BG_OK;
+}
+
 } // namespace
 
 extern "C" {
+
+bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh *mesh, char *err,
+                         size_t errlen)
+{
+    if (!path || !format_id || !mesh || !mesh->px || !mesh->indices) {
+        bg_io_set_error(err, errlen, "bg_mesh_export: NULL argument");
+        return BG_ERR_NULL_POINTER;
+    }
+    try {
+        return export_scene(path, format_id, mesh, err, errlen);
+    } catch (const std::bad_alloc &) {
+        bg_io_set_error(err, errlen, "'%s': out of memory while exporting", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        bg_io_set_error(err, errlen, "'%s': the mesh exporter failed (%s)", path, e.what());
+        return BG_ERR_IO;
+    } catch (...) {
+        bg_io_set_error(err, errlen, "'%s': the mesh exporter failed", path);
+        return BG_ERR_IO;
+    }
+}
 
 bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
                           size_t errlen)
@@ -555,6 +666,10 @@ void bg_mesh_free(bg_mesh *mesh)
     std::free(mesh->nz);
     std::free(mesh->u);
     std::free(mesh->v);
+    std::free(mesh->tx);
+    std::free(mesh->ty);
+    std::free(mesh->tz);
+    std::free(mesh->tw);
     std::free(mesh->indices);
     std::memset(mesh, 0, sizeof *mesh);
 }

@@ -11,6 +11,7 @@ and the bumped normals by `mesh_oracle`, which calls only the library's public
 single-point API (bg_height_eval + bg_perturb). Exit 77 (skip) when the models
 are missing.
 """
+import json
 import os
 import re
 import stat
@@ -605,13 +606,68 @@ def group_bake(tmp):
           "no temporary files left")
 
 
+def group_formats(tmp):
+    """OUT by extension: glb/gltf with tangents that read back, obj, refusal."""
+    wuson = os.path.join(MODELS, "PLY", "Wuson.ply")
+    bad = os.path.join(tmp, "out.xyz")
+    p = run(["--quiet", wuson, bad])
+    check(p.returncode == 2 and "cannot write a mesh in this format" in p.stderr
+          and not os.path.exists(bad), "unknown OUT extension refused, nothing written")
+    for ext in ("glb", "gltf"):
+        out = os.path.join(tmp, "w." + ext)
+        p = run([wuson, out])
+        check(p.returncode == 0 and "glTF 2.0" in p.stdout, ext + ": written")
+        dump = os.path.join(tmp, "w_%s.assxml" % ext)
+        a = subprocess.run(["assimp", "dump", out, dump], capture_output=True, text=True)
+        txt = open(dump).read() if os.path.exists(dump) else ""
+        check(a.returncode == 0 and "<Tangents num=" in txt and "<Bitangents num=" in txt,
+              ext + ": assimp reads TANGENT back")
+    with open(os.path.join(tmp, "w.glb"), "rb") as f:
+        data = f.read()
+    check(data[:4] == b"glTF" and int.from_bytes(data[8:12], "little") == len(data),
+          "glb header: magic and total length")
+    jlen = int.from_bytes(data[12:16], "little")
+    doc = json.loads(data[20:20 + jlen])
+    att = doc["meshes"][0]["primitives"][0]["attributes"]
+    tacc = doc["accessors"][att["TANGENT"]]
+    check(tacc["type"] == "VEC4" and "NORMAL" in att and "TEXCOORD_0" in att,
+          "glb: TANGENT is VEC4, NORMAL and TEXCOORD_0 present")
+    obj = os.path.join(tmp, "w.obj")
+    p = run(["--quiet", wuson, obj])
+    a = subprocess.run(["assimp", "info", obj], capture_output=True, text=True)
+    check(p.returncode == 0 and "Faces:              3732" in a.stdout, "obj: written, 3732 faces")
+    # --tangents file on our own glb gives the mikkTSpace bake (same normals,
+    # same welded frames), --tangents file on a PLY is refused
+    glb = os.path.join(tmp, "w.glb")
+    m1, m2 = os.path.join(tmp, "m1.exr"), os.path.join(tmp, "m2.exr")
+    p1 = run(["--quiet", "--bake-normal-map", m1, "--bake-depth", "float",
+              "--size", "64", glb])
+    p2 = run(["--quiet", "--tangents", "file", "--bake-normal-map", m2,
+              "--bake-depth", "float", "--size", "64", glb])
+    if p1.returncode == 0 and p2.returncode == 0:
+        d = np.abs(oracle_image(tmp, m1) - oracle_image(tmp, m2)).max()
+        check(d < 1e-4, "--tangents file = mikktspace on our glb (max %.2g)" % d)
+    else:
+        check(False, "--tangents bakes ran")
+    p = run(["--quiet", "--tangents", "file", "--bake-normal-map", m2,
+             "--size", "64", wuson])
+    check(p.returncode == 2 and "has no tangents" in p.stderr, "--tangents file without tangents: exit 2")
+    # --normal-map-y -y negates the green channel only
+    p = run(["--quiet", "--normal-map-y", "-y", "--bake-normal-map", m2,
+             "--bake-depth", "float", "--size", "64", glb])
+    a, b = oracle_image(tmp, m1), oracle_image(tmp, m2)
+    check(p.returncode == 0 and np.abs(a[..., 0] - b[..., 0]).max() == 0
+          and np.abs((2 * a[..., 1] - 1) + (2 * b[..., 1] - 1)).max() < 1e-6,
+          "--normal-map-y -y flips green only")
+
+
 def main():
     if not os.path.isdir(os.path.join(MODELS, "PLY")):
         print("skip: %s not found (Debian package assimp-testmodels)" % MODELS)
         return 77
     with tempfile.TemporaryDirectory(prefix="mesh-%s-" % GROUP, dir=os.getcwd()) as tmp:
         {"vertex": group_vertex, "recompute": group_recompute, "degenerate": group_degenerate,
-         "errors": group_errors, "bake": group_bake}[GROUP](tmp)
+         "errors": group_errors, "bake": group_bake, "formats": group_formats}[GROUP](tmp)
     print("%d failure(s)" % len(FAILS))
     return 1 if FAILS else 0
 

@@ -9,23 +9,26 @@
  * result is stored and, for tangent space, in which frame it is expressed.
  *
  * Tangent space follows the mikkTSpace decoding convention: a renderer
- * interpolates the vertex tangent t, normal n (both unnormalized after
- * interpolation) and uses b = sign * cross(n, t), n_out = normalize(m.x t +
- * m.y b + m.z n). The baker stores m = normalize(M^-1 n') with M = [t b n]
- * built from the same interpolated, unnormalized vectors, so that decoding
- * gives back n' exactly (up to quantization), not just approximately as an
- * orthonormalized per-texel frame would. */
+ * interpolates the per-corner tangent t (bgt_mikk_tangents, or the file's),
+ * the sign and the normal n, all unnormalized after interpolation, and uses
+ * b = sign * cross(n, t), n_out = normalize(m.x t + m.y b + m.z n)
+ * (mikktspace.h, "pixel shader (fast transform out)"). The baker stores
+ * m = normalize(M^-1 n') with M = [t b n] built from the same interpolated
+ * vectors (bgt_mikk_encode, the sampler of mikktspace.h), so that decoding
+ * gives back n' exactly (up to quantization). */
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include "common/parallel.h"
 #include "mesh/mesh_tool.h"
+#include "mesh/mesh_uv.h"
 
 typedef struct bake_ctx {
     const bg_mesh *m;
     const float *nx, *ny, *nz;
-    const mesh_tangents *tan; /* NULL for object space */
+    const float *ctan; /* 4 floats per corner; NULL for object space */
+    int green_down;
     const bgt_height *h;
     bg_perturb_method method;
     int width;
@@ -41,7 +44,7 @@ static void flat_vector(const bake_ctx *c, float *out)
      * +z in tangent space; in object space there is no such direction, so 0. */
     out[0] = 0.0f;
     out[1] = 0.0f;
-    out[2] = c->tan ? 1.0f : 0.0f;
+    out[2] = c->ctan ? 1.0f : 0.0f;
 }
 
 static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
@@ -93,39 +96,32 @@ static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
             flat_vector(c, out); /* the sentinel: no normal to perturb here */
             continue;
         }
-        if (!c->tan) {
+        if (!c->ctan) {
             out[0] = (float)n1x, out[1] = (float)n1y, out[2] = (float)n1z;
             continue;
         }
-        int32_t t = c->tri[k];
-        const uint32_t *ix = m->indices + 3 * (size_t)t;
-        int s = mesh_uv_signed_area(m, (size_t)t) > 0.0 ? 0 : 1;
-        double sign = s == 0 ? 1.0 : -1.0;
-        double w1 = c->b1[k], w2 = c->b2[k], w0 = 1.0 - w1 - w2;
-        const float *const *T = (const float *const *)c->tan->t[s];
-        double tx = w0 * T[0][ix[0]] + w1 * T[0][ix[1]] + w2 * T[0][ix[2]];
-        double ty = w0 * T[1][ix[0]] + w1 * T[1][ix[1]] + w2 * T[1][ix[2]];
-        double tz = w0 * T[2][ix[0]] + w1 * T[2][ix[1]] + w2 * T[2][ix[2]];
-        double nx = qx[j], ny = qy[j], nz = qz[j];
-        double bx = sign * (ny * tz - nz * ty);
-        double by = sign * (nz * tx - nx * tz);
-        double bz = sign * (nx * ty - ny * tx);
-        /* Rows of M^-1 times det(M): b x n, n x t, t x b. */
-        double r0x = by * nz - bz * ny, r0y = bz * nx - bx * nz, r0z = bx * ny - by * nx;
-        double r1x = ny * tz - nz * ty, r1y = nz * tx - nx * tz, r1z = nx * ty - ny * tx;
-        double r2x = ty * bz - tz * by, r2y = tz * bx - tx * bz, r2z = tx * by - ty * bx;
-        double det = tx * r0x + ty * r0y + tz * r0z;
-        double mx = r0x * n1x + r0y * n1y + r0z * n1z;
-        double my = r1x * n1x + r1y * n1y + r1z * n1z;
-        double mz = r2x * n1x + r2y * n1y + r2z * n1z;
-        if (det < 0.0)
-            mx = -mx, my = -my, mz = -mz;
-        double l = sqrt(mx * mx + my * my + mz * mz);
-        if (!(isfinite(l) && l > 0.0 && det != 0.0)) {
+        size_t t = (size_t)c->tri[k];
+        const uint32_t *ix = m->indices + 3 * t;
+        /* the weights the renderer's rasterizer would use: the float ones of
+         * the position and normal interpolation above */
+        float w1 = c->b1[k], w2 = c->b2[k];
+        double w[3] = {1.0f - w1 - w2, w1, w2};
+        float nv[3][3];
+        const float *tc[3], *nc[3];
+        for (int q = 0; q < 3; q++) {
+            nv[q][0] = c->nx[ix[q]], nv[q][1] = c->ny[ix[q]], nv[q][2] = c->nz[ix[q]];
+            nc[q] = nv[q];
+            tc[q] = c->ctan + 4 * (3 * t + (size_t)q);
+        }
+        bgt_mikk_frame f;
+        bgt_mikk_frame_at(tc, nc, w, &f);
+        double n1[3] = {n1x, n1y, n1z}, mm[3];
+        if (bgt_mikk_encode(&f, n1, mm) != 0) {
             flat_vector(c, out);
             continue;
         }
-        out[0] = (float)(mx / l), out[1] = (float)(my / l), out[2] = (float)(mz / l);
+        out[0] = (float)mm[0], out[1] = (float)(c->green_down ? -mm[1] : mm[1]);
+        out[2] = (float)mm[2];
     }
     free(buf);
     free(idx);
@@ -136,7 +132,8 @@ static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
  * row 0 is the top of the image and v grows upward (the OpenGL / glTF-after-
  * assimp convention). Centres on a shared edge go to the later triangle. */
 static int raster_triangle(const bg_mesh *m, size_t t, int W, int H, int32_t *tri, float *b1,
-                           float *b2)
+                           float *b2, const uint32_t *island, uint8_t *overlapped,
+                           uint8_t *multi)
 {
     const uint32_t *ix = m->indices + 3 * t;
     double X[3], Y[3];
@@ -164,6 +161,18 @@ static int raster_triangle(const bg_mesh *m, size_t t, int W, int H, int32_t *tr
             if (l0 < 0.0 || l1 < 0.0 || l2 < 0.0)
                 continue;
             size_t k = (size_t)yy * (size_t)W + (size_t)xx;
+            /* Overlap: a texel centre strictly inside two triangles (not on
+             * an edge they might share: meshes unwelded at the UV level have
+             * every triangle an island of its own). The later one wins, as
+             * before, but it is counted. multi: bit 0 overlapped, bit 1 the
+             * current owner has the centre strictly inside. */
+            int strict = l0 > 1e-9 && l1 > 1e-9 && l2 > 1e-9;
+            if (tri[k] >= 0 && strict && (multi[k] & 2)) {
+                overlapped[island[tri[k]]] = 1;
+                overlapped[island[t]] = 1;
+                multi[k] |= 1;
+            }
+            multi[k] = (uint8_t)((multi[k] & 1) | (strict ? 2 : 0));
             tri[k] = (int32_t)t;
             b1[k] = (float)l1;
             b2[k] = (float)l2;
@@ -233,30 +242,68 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "too many triangles to bake (%zu)",
                         m->triangle_count);
 
-    mesh_tangents tan;
-    memset(&tan, 0, sizeof tan);
     bg_status rc = BG_OK;
-    if (o->space == MESH_BAKE_TANGENT &&
-        (rc = mesh_vertex_tangents(m, nx, ny, nz, &tan, e)) != BG_OK)
-        return rc;
+    size_t C = 3 * m->triangle_count;
+    float *ctan = NULL;
+    uint32_t *island = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *island);
+    uint8_t *overlapped = NULL, *multi = NULL;
+    if (!island)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
+    stats->islands = mesh_uv_islands(m->triangle_count, m->indices, m->u, m->v, island);
+    if (stats->islands == (size_t)-1) {
+        free(island);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
+    }
+    if (o->space == MESH_BAKE_TANGENT) {
+        ctan = malloc((C ? C : 1) * 4 * sizeof *ctan);
+        if (!ctan) {
+            free(island);
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the tangents of %zu corners",
+                            C);
+        }
+        if (o->tangents == MESH_TANGENTS_FILE) {
+            /* the file's per-vertex frames, as a renderer given them uses them */
+            for (size_t c = 0; c < C; c++) {
+                uint32_t i = m->indices[c];
+                ctan[4 * c] = m->tx[i], ctan[4 * c + 1] = m->ty[i], ctan[4 * c + 2] = m->tz[i];
+                ctan[4 * c + 3] = m->tw[i] < 0.0f ? -1.0f : 1.0f;
+            }
+        } else {
+            bgt_mikk_mesh mm = {m->vertex_count, m->triangle_count, m->indices, m->px, m->py,
+                                m->pz, nx, ny, nz, m->u, m->v};
+            rc = bgt_mikk_tangents(&mm, ctan, &stats->mikk);
+            if (rc != BG_OK) {
+                free(ctan);
+                free(island);
+                return bgt_fail(e, rc, "mikkTSpace tangents failed (%s)", bg_status_string(rc));
+            }
+        }
+    }
 
     int32_t *tri = malloc(npix * sizeof *tri);
     float *b1 = malloc(npix * sizeof *b1), *b2 = malloc(npix * sizeof *b2);
     float *vec = calloc(npix * 3, sizeof *vec);
     uint16_t *level = calloc(npix, sizeof *level);
-    if (!tri || !b1 || !b2 || !vec || !level) {
+    overlapped = calloc(stats->islands ? stats->islands : 1, 1);
+    multi = calloc(npix, 1);
+    if (!tri || !b1 || !b2 || !vec || !level || !overlapped || !multi) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d bake", W, H);
         goto done;
     }
     for (size_t k = 0; k < npix; k++)
         tri[k] = -1;
     for (size_t t = 0; t < m->triangle_count; t++) {
-        if (!mesh_triangle_usable(m, t) || !raster_triangle(m, t, W, H, tri, b1, b2))
+        if (!mesh_triangle_usable(m, t) ||
+            !raster_triangle(m, t, W, H, tri, b1, b2, island, overlapped, multi))
             stats->skipped++;
     }
+    for (size_t k = 0; k < npix; k++)
+        stats->overlap_texels += multi[k] & 1;
+    for (size_t i = 0; i < stats->islands; i++)
+        stats->overlap_islands += overlapped[i];
 
     bake_ctx c = {.m = m, .nx = nx, .ny = ny, .nz = nz,
-                  .tan = o->space == MESH_BAKE_TANGENT ? &tan : NULL,
+                  .ctan = ctan, .green_down = o->green_down,
                   .h = h, .method = o->method, .width = W, .tri = tri, .b1 = b1, .b2 = b2,
                   .vec = vec};
     atomic_init(&c.oom, 0);
@@ -294,6 +341,9 @@ done:
     free(b2);
     free(vec);
     free(level);
-    mesh_tangents_free(&tan);
+    free(ctan);
+    free(island);
+    free(overlapped);
+    free(multi);
     return rc;
 }

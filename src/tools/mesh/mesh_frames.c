@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* Mesh-level frames for `bumpgrad mesh`: angle-weighted vertex normals and
- * per-vertex tangents from UVs. Sums run in double: a vertex of a fine mesh
- * collects many small, nearly parallel contributions, and float sums would
- * lose the tail digits that the tests compare against a float64 reference. */
+/* Mesh-level frames for `bumpgrad mesh`: angle-weighted vertex normals (the
+ * tangents are mikktspace.c's, per corner). Sums run in double: a vertex of
+ * a fine mesh collects many small, nearly parallel contributions, and float
+ * sums would lose the tail digits that the tests compare against a float64 reference. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -99,99 +99,4 @@ double mesh_uv_signed_area(const bg_mesh *m, size_t t)
     double du1 = (double)m->u[ix[1]] - m->u[ix[0]], dv1 = (double)m->v[ix[1]] - m->v[ix[0]];
     double du2 = (double)m->u[ix[2]] - m->u[ix[0]], dv2 = (double)m->v[ix[2]] - m->v[ix[0]];
     return du1 * dv2 - du2 * dv1;
-}
-
-/* A unit vector orthogonal to the unit n, continuous except across n.z = 0's
- * sign flip (the construction of Duff et al. 2017, "Building an orthonormal
- * basis, revisited"): used only where UVs give no tangent at all. */
-static bg_dvec3 any_tangent(bg_dvec3 n)
-{
-    double s = n.z >= 0.0 ? 1.0 : -1.0;
-    double a = -1.0 / (s + n.z);
-    double b = n.x * n.y * a;
-    return (bg_dvec3){1.0 + s * n.x * n.x * a, s * b, -s * n.x};
-}
-
-void mesh_tangents_free(mesh_tangents *t)
-{
-    for (int s = 0; s < 2; s++)
-        for (int k = 0; k < 3; k++) {
-            free(t->t[s][k]);
-            t->t[s][k] = NULL;
-        }
-}
-
-bg_status mesh_vertex_tangents(const bg_mesh *m, const float *nx, const float *ny,
-                               const float *nz, mesh_tangents *out, bgt_err *e)
-{
-    size_t nv = m->vertex_count;
-    memset(out, 0, sizeof *out);
-    double *acc = calloc(nv ? 6 * nv : 1, sizeof *acc); /* [vertex][sign][axis] */
-    int ok = acc != NULL;
-    for (int s = 0; s < 2; s++)
-        for (int k = 0; k < 3; k++) {
-            out->t[s][k] = malloc((nv ? nv : 1) * sizeof(float));
-            ok = ok && out->t[s][k];
-        }
-    if (!ok) {
-        free(acc);
-        mesh_tangents_free(out);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the tangents of %zu vertices",
-                        nv);
-    }
-    for (size_t t = 0; t < m->triangle_count; t++) {
-        if (!mesh_triangle_usable(m, t))
-            continue;
-        const uint32_t *ix = m->indices + 3 * t;
-        double det = mesh_uv_signed_area(m, t);
-        if (!(isfinite(det) && det != 0.0))
-            continue;
-        bg_dvec3 p0 = vertex_pos(m, ix[0]), p1 = vertex_pos(m, ix[1]), p2 = vertex_pos(m, ix[2]);
-        bg_dvec3 e1 = bg_dv3_sub(p1, p0), e2 = bg_dv3_sub(p2, p0);
-        double dv1 = (double)m->v[ix[1]] - m->v[ix[0]], dv2 = (double)m->v[ix[2]] - m->v[ix[0]];
-        /* dP/du = (e1 dv2 - e2 dv1) / det; only its direction matters, so the
-         * division becomes a sign, which keeps the tangent pointing along +u on
-         * mirrored islands too. */
-        double sg = det > 0.0 ? 1.0 : -1.0;
-        int slot = det > 0.0 ? 0 : 1;
-        bg_dvec3 tu = bg_dv3_scale(bg_dv3_sub(bg_dv3_scale(e1, dv2), bg_dv3_scale(e2, dv1)), sg);
-        double c2a = bg_dv3_length_naive(bg_dv3_cross(e1, e2));
-        double ang[3];
-        corner_angles(p0, p1, p2, c2a, ang);
-        for (int k = 0; k < 3; k++) {
-            uint32_t i = ix[k];
-            bg_dvec3 n = {nx[i], ny[i], nz[i]};
-            /* Project onto this vertex's tangent plane before summing, so that
-             * the face's slant against the smooth normal does not weigh in. */
-            bg_dvec3 tp = bg_dv3_sub(tu, bg_dv3_scale(n, bg_dv3_dot(n, tu)));
-            double l = bg_dv3_length_naive(tp);
-            if (!(isfinite(l) && l > 0.0))
-                continue;
-            double w = ang[k] / l;
-            double *a = acc + 6 * (size_t)i + 3 * (size_t)slot;
-            a[0] += w * tp.x;
-            a[1] += w * tp.y;
-            a[2] += w * tp.z;
-        }
-    }
-    for (size_t i = 0; i < nv; i++) {
-        bg_dvec3 n = {nx[i], ny[i], nz[i]};
-        for (int s = 0; s < 2; s++) {
-            const double *a = acc + 6 * i + 3 * (size_t)s;
-            bg_dvec3 t = {a[0], a[1], a[2]};
-            t = bg_dv3_sub(t, bg_dv3_scale(n, bg_dv3_dot(n, t))); /* Gram-Schmidt */
-            double l = bg_dv3_length_naive(t);
-            if (isfinite(l) && l > 0.0)
-                t = bg_dv3_scale(t, 1.0 / l);
-            else if (bg_dv3_dot(n, n) > 0.0)
-                t = any_tangent(n);
-            else
-                t = (bg_dvec3){1.0, 0.0, 0.0};
-            out->t[s][0][i] = (float)t.x;
-            out->t[s][1][i] = (float)t.y;
-            out->t[s][2][i] = (float)t.z;
-        }
-    }
-    free(acc);
-    return BG_OK;
 }

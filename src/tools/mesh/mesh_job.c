@@ -16,6 +16,7 @@
 #include <time.h>
 #include "common/parallel.h"
 #include "common/safe_file.h"
+#include "mesh/mesh_gltf.h"
 #include "mesh/mesh_tool.h"
 
 /* Vertices per parallel chunk: large enough that the per-chunk scratch and the
@@ -163,6 +164,38 @@ static int same_file(const char *a, const char *b)
            sa.st_ino == sb.st_ino;
 }
 
+mesh_out_format mesh_out_format_of(const char *path)
+{
+    struct stat sb;
+    /* an existing folder keeps failing as it did, when it is opened (exit 1) */
+    int folder = path && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+    if (!path || folder || strcmp(path, "-") == 0 || is_device(path) || ends_with_ci(path, ".ply"))
+        return MESH_OUT_PLY;
+    if (ends_with_ci(path, ".glb"))
+        return MESH_OUT_GLB;
+    if (ends_with_ci(path, ".gltf"))
+        return MESH_OUT_GLTF;
+    if (ends_with_ci(path, ".obj"))
+        return MESH_OUT_OBJ;
+    return MESH_OUT_UNKNOWN;
+}
+
+const char *mesh_out_format_name(mesh_out_format f, int ascii)
+{
+    switch (f) {
+    case MESH_OUT_PLY:
+        return ascii ? "ASCII PLY" : "binary little-endian PLY";
+    case MESH_OUT_GLB:
+        return "binary glTF 2.0";
+    case MESH_OUT_GLTF:
+        return "glTF 2.0, embedded buffer";
+    case MESH_OUT_OBJ:
+        return "Wavefront OBJ";
+    default:
+        return "?";
+    }
+}
+
 bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e)
 {
     if (!o || !o->input || !o->height)
@@ -172,6 +205,13 @@ bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "missing OUT.ply (or --bake-normal-map FILE)");
     if (bake_path && !(o->bake.width > 0 && o->bake.height > 0))
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--bake-normal-map needs --size N (or WxH)");
+    /* The format follows OUT's extension; a name we cannot write is refused
+     * (it used to get a PLY under that name). */
+    if (out_path && mesh_out_format_of(out_path) == MESH_OUT_UNKNOWN)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "OUT %s: cannot write a mesh in this format (the extension must be "
+                        ".ply, .glb, .gltf or .obj)",
+                        out_path);
     /* One path for the PLY and the map: the later rename silently replaced
      * the other output (exit 0, the bake lost). */
     if (out_path && bake_path && same_file(out_path, bake_path))
@@ -285,6 +325,15 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
                         "them; without the bake, vertex mode works on this mesh",
                         in_path);
     }
+    if (bake_path && o->bake.space == MESH_BAKE_TANGENT && o->bake.tangents == MESH_TANGENTS_FILE &&
+        !m.tx) {
+        bg_mesh_free(&m);
+        bgt_height_close(&h);
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "'%s' has no tangents (with normals and UVs in every mesh): --tangents "
+                        "file needs them; --tangents mikktspace computes them",
+                        in_path);
+    }
 
     size_t nv = m.vertex_count, nt = m.triangle_count;
     size_t nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
@@ -295,6 +344,8 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     bg_image img = {0, 0, 0, NULL};
     bgt_safe_file of = {NULL, NULL, NULL};
     FILE *devout = NULL;
+    char *obj_tmp = NULL;
+    float *gltf_tan = NULL;
     st = BG_OK;
     r->vertex_count = nv;
     r->triangle_count = nt;
@@ -367,7 +418,23 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
                           .ox = ox, .oy = oy, .oz = oz, .height = job.height,
                           .compare = job.compare, .u = m.u, .v = m.v, .indices = m.indices,
                           .comment = comment, .ascii = o->ascii};
-        if (is_device(out_path)) {
+        mesh_out_format fmt = mesh_out_format_of(out_path);
+        if (fmt == MESH_OUT_OBJ) {
+            /* assimp's exporter wants a file name: a temporary next to OUT,
+             * renamed below after the map (bumped normals, positions, UVs) */
+            bg_mesh view = m;
+            view.nx = job.nx, view.ny = job.ny, view.nz = job.nz;
+            if (!(obj_tmp = bgt_safe_temp_path(out_path, e))) {
+                st = BG_ERR_IO;
+                goto done;
+            }
+            bg_status xs = bg_mesh_export(obj_tmp, "objnomtl", &view, err, sizeof err);
+            if (xs != BG_OK) {
+                st = bgt_fail(e, xs == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY : BG_ERR_IO,
+                              "%s", err);
+                goto done;
+            }
+        } else if (is_device(out_path)) {
             /* /dev/null, a FIFO, a terminal: there is nothing to replace
              * atomically, and renaming a temporary file over the device
              * node would destroy it. */
@@ -379,7 +446,30 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         } else if ((st = bgt_safe_open(&of, out_path, e)) != BG_OK) {
             goto done;
         }
-        if (mesh_ply_write(devout ? devout : of.fp, &d)) {
+        if (fmt == MESH_OUT_GLB || fmt == MESH_OUT_GLTF) {
+            /* TANGENT: the mikkTSpace frame of the bumped normals, which is
+             * what a glTF viewer computes from this file when it ignores the
+             * attribute, so both ways agree */
+            if (m.u) {
+                gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *gltf_tan);
+                bgt_mikk_mesh mm = {nv, nt, m.indices, m.px, m.py, m.pz,
+                                    job.nx, job.ny, job.nz, m.u, m.v};
+                if (!gltf_tan || bgt_mikk_tangents(&mm, gltf_tan, NULL) != BG_OK) {
+                    st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
+                    goto done;
+                }
+            }
+            char gen[96];
+            snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
+            mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
+                              .px = m.px, .py = m.py, .pz = m.pz,
+                              .nx = job.nx, .ny = job.ny, .nz = job.nz,
+                              .u = m.u, .v = m.v, .corner_tangents = gltf_tan,
+                              .indices = m.indices, .generator = gen};
+            if ((st = mesh_gltf_write(devout ? devout : of.fp, fmt == MESH_OUT_GLB, &g, e)) !=
+                BG_OK)
+                goto done;
+        } else if (fmt == MESH_OUT_PLY && mesh_ply_write(devout ? devout : of.fp, &d)) {
             st = bgt_fail(e, BG_ERR_IO, "writing %s failed", out_path);
             goto done;
         }
@@ -407,6 +497,12 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
             st = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s", out_path, strerror(errno));
             goto done;
         }
+    } else if (obj_tmp) {
+        st = bgt_safe_commit_path(obj_tmp, out_path, e);
+        free(obj_tmp);
+        obj_tmp = NULL;
+        if (st != BG_OK)
+            goto done;
     } else if (out_path && (st = bgt_safe_commit(&of, e)) != BG_OK) {
         goto done;
     }
@@ -421,6 +517,11 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
 done:
     if (devout)
         fclose(devout);
+    if (obj_tmp) {
+        bgt_safe_discard_path(obj_tmp);
+        free(obj_tmp);
+    }
+    free(gltf_tan);
     if (of.fp)
         bgt_safe_abort(&of);
     bg_image_free(&img);

@@ -14,6 +14,7 @@
 #include "bumpgrad/mesh.h"
 #include "common/tool.h"
 #include "height_source.h"
+#include "mesh/mikktspace.h"
 
 /* ---- degenerate input ----
  * A triangle is "unusable" when an index repeats, a corner position is NaN/Inf,
@@ -34,21 +35,8 @@ size_t mesh_normalize_normals(size_t n, float *nx, float *ny, float *nz);
  * number of sentinels, or (size_t)-1 when out of memory. */
 size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz);
 
-/* Per-vertex tangents from UV set 0 in the mikkTSpace convention (see
- * docs/MESH.md): per triangle the direction of dP/du, projected onto each
- * corner's normal plane, normalized and weighted by the corner angle, summed
- * per vertex, then Gram-Schmidt against the vertex normal. Triangles whose UV
- * map mirrors (negative signed UV area) are accumulated apart from the others,
- * as mikkTSpace splits vertices by handedness: frame[0] is for sign +1,
- * frame[1] for sign -1, and the bitangent is sign * cross(n, t). A vertex
- * whose accumulated tangent vanishes gets a fixed unit vector orthogonal to n. */
-typedef struct mesh_tangents {
-    float *t[2][3]; /* t[s][axis][vertex]: unit tangents for sign +1 (s=0) and -1 (s=1) */
-} mesh_tangents;
-/* BG_OK, or BG_ERR_OUT_OF_MEMORY with a message in *e. m->u/m->v must be set. */
-bg_status mesh_vertex_tangents(const bg_mesh *m, const float *nx, const float *ny,
-                               const float *nz, mesh_tangents *out, bgt_err *e);
-void mesh_tangents_free(mesh_tangents *t);
+/* Tangent frames: per corner, in the mikkTSpace convention (mikktspace.h,
+ * bgt_mikk_tangents); the bake and the glTF output use them. */
 /* Signed UV area (twice) of triangle t: > 0 keeps orientation, < 0 mirrors. */
 double mesh_uv_signed_area(const bg_mesh *m, size_t t);
 
@@ -70,17 +58,28 @@ int mesh_ply_write(FILE *fp, const mesh_ply_out *d);
 
 /* ---- normal-map bake ---- */
 typedef enum mesh_bake_space { MESH_BAKE_TANGENT = 0, MESH_BAKE_OBJECT = 1 } mesh_bake_space;
+/* Where the tangent frame of a tangent-space bake comes from. */
+typedef enum mesh_tangent_source {
+    MESH_TANGENTS_MIKK = 0, /* bgt_mikk_tangents of the unit vertex normals (default) */
+    MESH_TANGENTS_FILE = 1  /* the file's per-vertex tangents (bg_mesh tx..tw) */
+} mesh_tangent_source;
 typedef struct mesh_bake_opts {
     int width, height;
     mesh_bake_space space;
     int padding;
     bg_perturb_method method;
     int threads;
+    mesh_tangent_source tangents;
+    int green_down;      /* store -m.y (DirectX normal maps, --normal-map-y -y) */
 } mesh_bake_opts;
 typedef struct mesh_bake_stats {
     size_t covered;      /* texels inside some triangle */
     size_t padded;       /* texels filled by the dilation */
     size_t skipped;      /* unusable triangles or triangles with zero / non-finite UV area */
+    size_t islands;          /* UV islands (mesh_uv_islands) */
+    size_t overlap_texels;   /* texel centres strictly inside two or more triangles */
+    size_t overlap_islands;  /* islands with a triangle in such an overlap */
+    bgt_mikk_stats mikk;     /* of the mikkTSpace tangents (tangent space, MESH_TANGENTS_MIKK) */
 } mesh_bake_stats;
 /* Rasterize the mesh in UV space into `img` (allocated here, 3 channels,
  * encoded 0.5 * m + 0.5). `nx/ny/nz` are the unit vertex normals; `h` is
@@ -107,6 +106,18 @@ typedef struct bgt_mesh_opts {
                               * method and threads are taken from above */
     int bake_depth;          /* a bg_pixel_type, or -1: half for .exr, else 8 bits */
 } bgt_mesh_opts;
+
+/* Mesh output formats, chosen by OUT's extension (case-insensitive); "-" and
+ * a device (/dev/null, a FIFO) get PLY. */
+typedef enum mesh_out_format {
+    MESH_OUT_PLY = 0,
+    MESH_OUT_GLB = 1,  /* binary glTF 2.0 (mesh_gltf.c), TANGENT when IN has UVs */
+    MESH_OUT_GLTF = 2, /* glTF 2.0 with the buffer embedded */
+    MESH_OUT_OBJ = 3,  /* Wavefront OBJ without a material file (assimp's exporter) */
+    MESH_OUT_UNKNOWN = -1
+} mesh_out_format;
+mesh_out_format mesh_out_format_of(const char *path);
+const char *mesh_out_format_name(mesh_out_format f, int ascii);
 
 /* What `bumpgrad mesh` prints: the mesh, the normals, the perturbation
  * statistics (means over the vertices with a normal), the bake and the times. */

@@ -1,0 +1,292 @@
+/* SPDX-License-Identifier: MIT */
+/* glTF 2.0 writer of `bumpgrad mesh` (.gltf with the buffer embedded as a
+ * base64 data URI, or binary .glb): one mesh, one triangle primitive with
+ * POSITION, NORMAL, TANGENT (VEC4: xyz and the bitangent sign w, the
+ * mikkTSpace frame) and TEXCOORD_0, and uint32 indices. Our own writer:
+ * assimp 5.2's glTF exporter writes TANGENT as VEC3 without the sign, which
+ * the glTF 2.0 specification (3.7.2.1, "XYZW vertex tangents where the XYZ
+ * portion is normalized, and the W component is a sign value (-1 or +1)")
+ * does not allow.
+ *
+ * mikkTSpace frames are per corner; glTF attributes are per vertex. So a
+ * vertex whose corners carry different tangents (a fan split, a mirrored
+ * seam) is written once per distinct tangent, as mikktspace.h asks ("generate
+ * a new index list"); positions, normals and UVs are copied, the triangles
+ * and their winding are kept.
+ *
+ * UVs: ours have v up (OpenGL); glTF's origin is the top-left corner, so
+ * TEXCOORD_0 = (u, 1 - v), which is also what assimp's importer flips back.
+ * The tangent frame is the one our tangent-space bake encodes in, so a glTF
+ * viewer that uses the file's tangents decodes our maps. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mesh/mesh_gltf.h"
+
+typedef struct ckey {
+    uint32_t v;
+    uint32_t t[4];
+    uint32_t corner;
+} ckey;
+
+static int cmp_ckey(const void *a, const void *b)
+{
+    const ckey *x = a, *y = b;
+    if (x->v != y->v)
+        return x->v < y->v ? -1 : 1;
+    for (int j = 0; j < 4; j++)
+        if (x->t[j] != y->t[j])
+            return x->t[j] < y->t[j] ? -1 : 1;
+    return (x->corner > y->corner) - (x->corner < y->corner);
+}
+
+static uint32_t fbits(float f)
+{
+    uint32_t b;
+    memcpy(&b, &f, sizeof b);
+    return b;
+}
+
+/* little-endian float / uint32 into a byte buffer, on any host */
+static void put_u32(unsigned char *p, uint32_t v)
+{
+    p[0] = (unsigned char)(v & 0xff), p[1] = (unsigned char)((v >> 8) & 0xff);
+    p[2] = (unsigned char)((v >> 16) & 0xff), p[3] = (unsigned char)(v >> 24);
+}
+static void put_f32(unsigned char *p, float f) { put_u32(p, fbits(f)); }
+
+/* JSON number: finite floats with 9 significant digits (round trip), other
+ * values (which JSON cannot hold) as 0. */
+static void json_num(char *buf, size_t n, double x)
+{
+    if (!isfinite(x))
+        x = 0.0;
+    snprintf(buf, n, "%.9g", x);
+}
+
+typedef struct sbuf {
+    char *p;
+    size_t n, cap;
+    int oom;
+} sbuf;
+
+static void sb_add(sbuf *s, const char *fmt, ...) BGT_PRINTF(2, 3);
+static void sb_add(sbuf *s, const char *fmt, ...)
+{
+    if (s->oom)
+        return;
+    for (;;) {
+        va_list ap;
+        va_start(ap, fmt);
+        int k = vsnprintf(s->p ? s->p + s->n : NULL, s->p ? s->cap - s->n : 0, fmt, ap);
+        va_end(ap);
+        if (k < 0) {
+            s->oom = 1;
+            return;
+        }
+        if (s->p && s->n + (size_t)k < s->cap) {
+            s->n += (size_t)k;
+            return;
+        }
+        size_t cap = (s->cap ? 2 * s->cap : 4096) + (size_t)k + 1;
+        char *q = realloc(s->p, cap);
+        if (!q) {
+            s->oom = 1;
+            return;
+        }
+        s->p = q;
+        s->cap = cap;
+    }
+}
+
+static const char b64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+static int write_base64(FILE *fp, const unsigned char *d, size_t n)
+{
+    char out[4 * 1024];
+    size_t o = 0;
+    for (size_t i = 0; i < n; i += 3) {
+        uint32_t v = (uint32_t)d[i] << 16;
+        if (i + 1 < n)
+            v |= (uint32_t)d[i + 1] << 8;
+        if (i + 2 < n)
+            v |= d[i + 2];
+        out[o++] = b64[(v >> 18) & 63];
+        out[o++] = b64[(v >> 12) & 63];
+        out[o++] = i + 1 < n ? b64[(v >> 6) & 63] : '=';
+        out[o++] = i + 2 < n ? b64[v & 63] : '=';
+        if (o == sizeof out) {
+            if (fwrite(out, 1, o, fp) != o)
+                return -1;
+            o = 0;
+        }
+    }
+    return fwrite(out, 1, o, fp) == o ? 0 : -1;
+}
+
+bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *e)
+{
+    size_t T = d->triangle_count, C = 3 * T;
+    int has_uv = d->u && d->v, has_tan = d->corner_tangents != NULL;
+    ckey *keys = malloc((C ? C : 1) * sizeof *keys);
+    uint32_t *newidx = malloc((C ? C : 1) * sizeof *newidx);
+    uint32_t *src = malloc((C ? C : 1) * sizeof *src); /* new vertex -> a corner */
+    unsigned char *bin = NULL;
+    sbuf js = {0};
+    bg_status rc = BG_OK;
+    if (!keys || !newidx || !src) {
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF of %zu triangles", T);
+        goto done;
+    }
+    /* new vertices: one per (vertex, corner tangent) */
+    for (size_t c = 0; c < C; c++) {
+        keys[c].v = d->indices[c];
+        keys[c].corner = (uint32_t)c;
+        for (int j = 0; j < 4; j++)
+            keys[c].t[j] = has_tan ? fbits(d->corner_tangents[4 * c + (size_t)j]) : 0u;
+    }
+    qsort(keys, C, sizeof *keys, cmp_ckey);
+    size_t NV = 0;
+    for (size_t i = 0; i < C; i++) {
+        if (i == 0 || keys[i].v != keys[i - 1].v ||
+            memcmp(keys[i].t, keys[i - 1].t, sizeof keys[i].t) != 0)
+            src[NV++] = keys[i].corner;
+        newidx[keys[i].corner] = (uint32_t)(NV - 1);
+    }
+    if (NV > UINT32_MAX) {
+        rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "too many vertices for glTF (%zu)", NV);
+        goto done;
+    }
+
+    /* binary buffer: positions, normals, tangents, uvs, indices (all 4-byte aligned) */
+    size_t off_p = 0, off_n = off_p + 12 * NV, off_t = off_n + 12 * NV;
+    size_t off_uv = off_t + (has_tan ? 16 * NV : 0), off_i = off_uv + (has_uv ? 8 * NV : 0);
+    size_t blen = off_i + 4 * C;
+    bin = malloc(blen ? blen : 1);
+    if (!bin) {
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF buffer (%zu bytes)",
+                      blen);
+        goto done;
+    }
+    double mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < NV; i++) {
+        size_t c = src[i];
+        uint32_t v = d->indices[c];
+        float p[3] = {d->px[v], d->py[v], d->pz[v]};
+        float n[3] = {d->nx[v], d->ny[v], d->nz[v]};
+        if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)
+            n[2] = 1.0f; /* the no-normal sentinel: glTF needs unit normals */
+        for (int a = 0; a < 3; a++) {
+            put_f32(bin + off_p + 12 * i + 4 * (size_t)a, p[a]);
+            put_f32(bin + off_n + 12 * i + 4 * (size_t)a, n[a]);
+            if (isfinite(p[a])) {
+                mn[a] = p[a] < mn[a] ? p[a] : mn[a];
+                mx[a] = p[a] > mx[a] ? p[a] : mx[a];
+            }
+        }
+        if (has_tan)
+            for (int a = 0; a < 4; a++)
+                put_f32(bin + off_t + 16 * i + 4 * (size_t)a, d->corner_tangents[4 * c + (size_t)a]);
+        if (has_uv) {
+            put_f32(bin + off_uv + 8 * i, d->u[v]);
+            put_f32(bin + off_uv + 8 * i + 4, 1.0f - d->v[v]);
+        }
+    }
+    for (size_t c = 0; c < C; c++)
+        put_u32(bin + off_i + 4 * c, newidx[c]);
+
+    /* JSON */
+    char a[6][32];
+    for (int k = 0; k < 3; k++) {
+        json_num(a[k], sizeof a[k], NV ? mn[k] : 0.0);
+        json_num(a[3 + k], sizeof a[3 + k], NV ? mx[k] : 0.0);
+    }
+    sb_add(&js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"%s\"},", d->generator);
+    sb_add(&js, "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],");
+    int acc = 0;
+    int ip = acc++, in = acc++, it = has_tan ? acc++ : -1, iu = has_uv ? acc++ : -1, ii = acc++;
+    sb_add(&js, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d", ip,
+           in);
+    if (has_tan)
+        sb_add(&js, ",\"TANGENT\":%d", it);
+    if (has_uv)
+        sb_add(&js, ",\"TEXCOORD_0\":%d", iu);
+    sb_add(&js, "},\"indices\":%d,\"mode\":4}]}],", ii);
+    sb_add(&js, "\"accessors\":[");
+    sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
+                "\"min\":[%s,%s,%s],\"max\":[%s,%s,%s]},",
+           ip, NV, a[0], a[1], a[2], a[3], a[4], a[5]);
+    sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"},", in,
+           NV);
+    if (has_tan)
+        sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"},",
+               it, NV);
+    if (has_uv)
+        sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},",
+               iu, NV);
+    sb_add(&js, "{\"bufferView\":%d,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],",
+           ii, C);
+    sb_add(&js, "\"bufferViews\":[");
+    sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", off_p,
+           12 * NV);
+    sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", off_n,
+           12 * NV);
+    if (has_tan)
+        sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
+               off_t, 16 * NV);
+    if (has_uv)
+        sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
+               off_uv, 8 * NV);
+    sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}],", off_i,
+           4 * C);
+    if (binary) {
+        sb_add(&js, "\"buffers\":[{\"byteLength\":%zu}]}", blen);
+    } else {
+        sb_add(&js, "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,",
+               blen);
+    }
+    if (js.oom) {
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF JSON");
+        goto done;
+    }
+    int werr = 0;
+    if (binary) {
+        size_t jpad = (4 - js.n % 4) % 4, bpad = (4 - blen % 4) % 4;
+        size_t total = 12 + 8 + js.n + jpad + 8 + blen + bpad;
+        if (total > UINT32_MAX) {
+            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "mesh too large for .glb (%zu bytes)", total);
+            goto done;
+        }
+        unsigned char h[20];
+        memcpy(h, "glTF", 4);
+        put_u32(h + 4, 2);
+        put_u32(h + 8, (uint32_t)total);
+        put_u32(h + 12, (uint32_t)(js.n + jpad));
+        memcpy(h + 16, "JSON", 4);
+        werr |= fwrite(h, 1, 20, fp) != 20;
+        werr |= fwrite(js.p, 1, js.n, fp) != js.n;
+        werr |= fwrite("   ", 1, jpad, fp) != jpad;
+        put_u32(h, (uint32_t)(blen + bpad));
+        memcpy(h + 4, "BIN\0", 4);
+        werr |= fwrite(h, 1, 8, fp) != 8;
+        werr |= fwrite(bin, 1, blen, fp) != blen;
+        werr |= fwrite("\0\0\0", 1, bpad, fp) != bpad;
+    } else {
+        werr |= fwrite(js.p, 1, js.n, fp) != js.n;
+        werr |= write_base64(fp, bin, blen) != 0;
+        werr |= fputs("\"}]}\n", fp) == EOF;
+    }
+    if (werr)
+        rc = bgt_fail(e, BG_ERR_IO, "write error");
+done:
+    free(keys);
+    free(newidx);
+    free(src);
+    free(bin);
+    free(js.p);
+    return rc;
+}
