@@ -716,3 +716,37 @@ bg_status bgt_csv_read_double(bgt_csv *c, int count, double *const *cols, size_t
 {
     return read_rows(c, count, 1, NULL, cols, max, rows);
 }
+
+/* ---- writing the pass-through columns (eval, perturb) ---- */
+
+/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
+ * after ours, as they were. */
+void bgt_csv_write_header(FILE *fp, const bgt_csv *in, const char *ours)
+{
+    if (in->id_header[0])
+        fprintf(fp, "%s,", in->id_header);
+    fputs(ours, fp);
+    if (in->extra_header[0])
+        fprintf(fp, ",%s", in->extra_header);
+    fputc('\n', fp);
+}
+
+void bgt_csv_write_row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
+{
+    const char *id;
+    size_t idlen;
+    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
+    if (in->id_header[0]) {
+        fwrite(id, 1, idlen, fp);
+        fputc(',', fp);
+    }
+}
+
+void bgt_csv_write_row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
+{
+    if (in->extra_header[0]) {
+        fputc(',', fp);
+        fwrite(extra, 1, elen, fp);
+    }
+    fputc('\n', fp);
+}

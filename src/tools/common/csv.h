@@ -73,4 +73,12 @@ extern int bgt_csv_fast_path;
  * if it handles s[0..n), BG_ERR_FORMAT if it leaves the field to strtod/strtof. */
 bg_status bgt_csv_parse_number(const char *s, size_t n, int dbl, double *dv, float *fv);
 
+/* Output tables that keep the input's id and extra columns: the header
+ * [id,]OURS[,extra...], and around each row of ours the id before and the
+ * extra columns after, as they were read (row r of the last block read). */
+void bgt_csv_write_header(FILE *fp, const bgt_csv *in, const char *ours);
+void bgt_csv_write_row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra,
+                              size_t *elen);
+void bgt_csv_write_row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen);
+
 #endif

@@ -14,37 +14,6 @@
 #define EVAL_BLOCK 8192
 #define EVAL_CHUNK 1024
 
-/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
- * after ours, as they were. */
-static void write_header(FILE *fp, const bgt_csv *in, const char *ours)
-{
-    if (in->id_header[0])
-        fprintf(fp, "%s,", in->id_header);
-    fputs(ours, fp);
-    if (in->extra_header[0])
-        fprintf(fp, ",%s", in->extra_header);
-    fputc('\n', fp);
-}
-
-static void row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
-{
-    const char *id;
-    size_t idlen;
-    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
-    if (in->id_header[0]) {
-        fwrite(id, 1, idlen, fp);
-        fputc(',', fp);
-    }
-}
-
-static void row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
-{
-    if (in->extra_header[0]) {
-        fputc(',', fp);
-        fwrite(extra, 1, elen, fp);
-    }
-    fputc('\n', fp);
-}
 
 static const char *const eval_header[] = {"x", "y", "z"};
 
@@ -118,7 +87,7 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
     if (npy_out)
         bgt_npy_begin(&nout, out.fp, dbl, 7, e);
     else
-        write_header(out.fp, inp, "x,y,z,value,dx,dy,dz");
+        bgt_csv_write_header(out.fp, inp, "x,y,z,value,dx,dy,dz");
 
     bgt_progress_begin(o->progress, "eval", bgt_table_size(&tin));
     size_t total_rows = 0;
@@ -136,21 +105,21 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
             for (size_t r = 0; r < rows; r++) {
                 const char *x;
                 size_t xl;
-                row_prefix(out.fp, inp, r, &x, &xl);
+                bgt_csv_write_row_prefix(out.fp, inp, r, &x, &xl);
                 fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", c[0][r], c[1][r],
                         c[2][r], c[3][r], c[4][r], c[5][r], c[6][r]);
-                row_suffix(out.fp, inp, x, xl);
+                bgt_csv_write_row_suffix(out.fp, inp, x, xl);
             }
         } else {
             float **c = job.fc;
             for (size_t r = 0; r < rows; r++) {
                 const char *x;
                 size_t xl;
-                row_prefix(out.fp, inp, r, &x, &xl);
+                bgt_csv_write_row_prefix(out.fp, inp, r, &x, &xl);
                 fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", (double)c[0][r],
                         (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
                         (double)c[5][r], (double)c[6][r]);
-                row_suffix(out.fp, inp, x, xl);
+                bgt_csv_write_row_suffix(out.fp, inp, x, xl);
             }
         }
         if (ferror(out.fp)) {

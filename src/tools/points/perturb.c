@@ -19,37 +19,6 @@
 #define PERTURB_BLOCK 8192
 #define PERTURB_CHUNK 1024
 
-/* [id,]COLUMNS[,extra columns]: the id first, the other columns of the input
- * after ours, as they were. */
-static void write_header(FILE *fp, const bgt_csv *in, const char *ours)
-{
-    if (in->id_header[0])
-        fprintf(fp, "%s,", in->id_header);
-    fputs(ours, fp);
-    if (in->extra_header[0])
-        fprintf(fp, ",%s", in->extra_header);
-    fputc('\n', fp);
-}
-
-static void row_prefix(FILE *fp, const bgt_csv *in, size_t r, const char **extra, size_t *elen)
-{
-    const char *id;
-    size_t idlen;
-    bgt_csv_row_text(in, r, &id, &idlen, extra, elen);
-    if (in->id_header[0]) {
-        fwrite(id, 1, idlen, fp);
-        fputc(',', fp);
-    }
-}
-
-static void row_suffix(FILE *fp, const bgt_csv *in, const char *extra, size_t elen)
-{
-    if (in->extra_header[0]) {
-        fputc(',', fp);
-        fwrite(extra, 1, elen, fp);
-    }
-    fputc('\n', fp);
-}
 
 static const char *const perturb_header[] = {"x", "y", "z", "nx", "ny", "nz"};
 
@@ -106,7 +75,7 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
     if (npy_out)
         bgt_npy_begin(&nout, out.fp, 0, 11, e);
     else
-        write_header(out.fp, inp, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
+        bgt_csv_write_header(out.fp, inp, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
 
     bgt_progress_begin(o->progress, "perturb", bgt_table_size(&tin));
     size_t total_rows = 0;
@@ -160,14 +129,14 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
         for (size_t r = 0; r < rows && !npy_out; r++) {
             const char *x;
             size_t xl;
-            row_prefix(out.fp, inp, r, &x, &xl);
+            bgt_csv_write_row_prefix(out.fp, inp, r, &x, &xl);
             int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
             block_inward += (size_t)inward;
             fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d",
                     (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
                     (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
                     (double)c[8][r], (double)c[9][r], inward);
-            row_suffix(out.fp, inp, x, xl);
+            bgt_csv_write_row_suffix(out.fp, inp, x, xl);
         }
         if (ferror(out.fp)) {
             rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
