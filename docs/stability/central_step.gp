@@ -12,4 +12,4 @@ set format x '%.0e'
 set logscale y
 set format y '%.0e'
 data = 'docs/stability/central_step.csv'
-plot data using 1:2 with linespoints lw 2, data using 1:3 with linespoints lw 2
+plot data using 1:2 with linespoints lw 2 title 'fBm gradient error, mean', data using 1:3 with linespoints lw 2 title 'fBm gradient error, p99'

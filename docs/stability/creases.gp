@@ -12,4 +12,4 @@ set format x '%.0e'
 set logscale y
 set format y '%.0e'
 data = 'docs/stability/creases.csv'
-plot data using 1:($3>0?$3:1/0) with linespoints lw 2, data using 1:($4>0?$4:1/0) with linespoints lw 2
+plot data using 1:($3>0?$3:1/0) with linespoints lw 2 title 'mean angle error', data using 1:($4>0?$4:1/0) with linespoints lw 2 title 'max angle error'

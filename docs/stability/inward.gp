@@ -10,4 +10,6 @@ set ylabel 'fraction of samples with dot(perturbed n, n) <= 0'
 set logscale x
 set format x '%.0e'
 data = 'docs/stability/inward.csv'
-plot data using 1:2 with linespoints lw 2, data using 1:4 with linespoints lw 2, data using 1:3 with linespoints lw 2
+set key left top
+set yrange [-0.03:*]
+plot data using 1:2 with linespoints lw 2 title 'additive, n - grad h', data using 1:4 with linespoints lw 2 title 'additive with Perlin sign, n + grad h', data using 1:3 with linespoints lw 3 dt 2 pt 7 title 'surface gradient (eq. 4): always 0'
