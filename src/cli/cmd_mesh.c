@@ -7,7 +7,59 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cli.h"
+#include "json.h"
 #include "mesh/mesh_tool.h"
+
+static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
+{
+    cli_json j;
+    cli_json_begin(&j, stdout);
+    cli_json_common(&j, "mesh", r->t_load + r->t_normals + r->t_perturb + r->t_bake + r->t_write);
+    cli_json_int(&j, "vertices", (long long)r->vertex_count);
+    cli_json_int(&j, "triangles", (long long)r->triangle_count);
+    cli_json_int(&j, "scene_meshes", (long long)r->mesh_count);
+    cli_json_int(&j, "dropped_primitives", (long long)r->dropped_primitives);
+    cli_json_bool(&j, "file_normals", r->file_normals);
+    cli_json_int(&j, "vertices_without_normal", (long long)r->no_normal);
+    cli_json_int(&j, "unusable_triangles", (long long)r->unusable_triangles);
+    cli_json_num(&j, "mean_height", r->mean_height);
+    cli_json_int(&j, "nonfinite_heights", (long long)r->nonfinite_height);
+    cli_json_num(&j, "mean_angle_deg", r->mean_angle);
+    cli_json_num(&j, "max_angle_deg", r->max_angle);
+    cli_json_num(&j, "inward_fraction_surfgrad",
+                 r->valid ? (double)r->inward_surf / (double)r->valid : 0.0);
+    cli_json_num(&j, "inward_fraction_other",
+                 r->valid ? (double)r->inward_other / (double)r->valid : 0.0);
+    cli_json_num(&j, "compare_mean_deg", r->mean_compare);
+    cli_json_num(&j, "compare_max_deg", r->max_compare);
+    if (o->bake_path) {
+        cli_json_object(&j, "bake");
+        cli_json_str(&j, "path", o->bake_path);
+        cli_json_int(&j, "width", o->bake.width);
+        cli_json_int(&j, "height", o->bake.height);
+        cli_json_int(&j, "covered_texels", (long long)r->bake.covered);
+        cli_json_int(&j, "padded_texels", (long long)r->bake.padded);
+        cli_json_int(&j, "skipped_triangles", (long long)r->bake.skipped);
+        cli_json_int(&j, "uv_islands", (long long)r->bake.islands);
+        cli_json_int(&j, "overlap_texels", (long long)r->bake.overlap_texels);
+        cli_json_close(&j);
+    }
+    cli_json_object(&j, "timing_s");
+    cli_json_num(&j, "load", r->t_load);
+    cli_json_num(&j, "normals", r->t_normals);
+    cli_json_num(&j, "perturb", r->t_perturb);
+    cli_json_num(&j, "bake", r->t_bake);
+    cli_json_num(&j, "write", r->t_write);
+    cli_json_close(&j);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "input", o->input);
+    cli_json_str(&j, "output", o->output);
+    cli_json_str(&j, "method", cli_method_name(o->method));
+    cli_json_int(&j, "threads", r->threads);
+    cli_json_height(&j, "height", o->height);
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
 
 static void mesh_help(FILE *fp)
 {
@@ -41,6 +93,7 @@ static void mesh_help(FILE *fp)
             "  --ascii               ASCII PLY instead of binary little-endian\n"
             "  --threads N           worker threads (default: all cores)\n"
             "  --quiet               no summary\n"
+            "  --json                the summary as one JSON object on stdout\n"
             "  -h, --help            this help\n"
             "\n"
             "Normal-map bake (needs UV set 0):\n"
@@ -95,7 +148,7 @@ int cmd_mesh(int argc, char **argv)
 {
     const char *cmd = "mesh", *in_path = NULL, *out_path = NULL, *bake_path = NULL, *v;
     bg_perturb_method method = BG_PERTURB_SURFGRAD;
-    int compare = 0, ascii = 0, recompute = 0, quiet = 0, threads = 0, rc;
+    int compare = 0, ascii = 0, recompute = 0, quiet = 0, json = 0, threads = 0, rc;
     unsigned join = BG_MESH_JOIN_AUTO;
     mesh_bake_opts bake = {.width = 0, .height = 0, .space = MESH_BAKE_TANGENT, .padding = 4};
     int bake_depth = -1;
@@ -122,6 +175,8 @@ int cmd_mesh(int argc, char **argv)
             recompute = 1;
         } else if (strcmp(o, "--quiet") == 0) {
             quiet = 1;
+        } else if (strcmp(o, "--json") == 0) {
+            json = 1;
         } else if (strcmp(o, "--join") == 0) {
             if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
                 return rc;
@@ -224,6 +279,10 @@ int cmd_mesh(int argc, char **argv)
     bg_status st = bgt_mesh_run(&opts, &r, &err);
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
+    if (json) {
+        print_json(&opts, &r);
+        return CLI_OK;
+    }
     if (!quiet) {
         FILE *fp = out_path && strcmp(out_path, "-") == 0 ? stderr : stdout;
         fprintf(fp, "mesh: %s: %zu vertices, %zu triangles (%zu scene meshes", in_path,
