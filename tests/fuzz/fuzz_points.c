@@ -9,8 +9,10 @@
  *
  * Checks, besides ASan/UBSan: a failure carries a message with its status and
  * leaves no output and no temporary behind; a success leaves exactly the
- * output, which starts with the header and has the right number of fields on
- * every line. */
+ * output, whose header holds our columns (an id column before them and the
+ * input's extra columns after them are passed through) and whose every line
+ * has at least our number of fields (passed-through quoted fields may hold
+ * commas of their own). */
 #define _GNU_SOURCE
 #include "fuzz_util.h"
 #include "height_source.h"
@@ -18,7 +20,7 @@
 
 static const char *out_name = "out.csv";
 
-/* Lines and comma count of the output file; 0 if every line has `fields` fields. */
+/* Lines of the output file; 0 if every line has at least `fields` fields. */
 static int check_output(const char *path, const char *header, int fields, size_t *lines)
 {
     FILE *f = fopen(path, "rb");
@@ -31,11 +33,11 @@ static int check_output(const char *path, const char *header, int fields, size_t
         FUZZ_CHECK(n > 0 && line[n - 1] == '\n', "output line %zu unterminated or too long",
                    *lines + 1);
         if (*lines == 0)
-            FUZZ_CHECK(strcmp(line, header) == 0, "output header is \"%s\"", line);
+            FUZZ_CHECK(strstr(line, header) != NULL, "output header is \"%s\"", line);
         int commas = 0;
         for (size_t i = 0; i < n; i++)
             commas += line[i] == ',';
-        bad |= commas != fields - 1;
+        bad |= commas < fields - 1;
         ++*lines;
     }
     fclose(f);
@@ -99,8 +101,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     FUZZ_CHECK(fuzz_dir_entries("in.csv", out_name, &other) == 0, "a run left %s behind", other);
     size_t lines;
-    int bad = perturb ? check_output(out, "x,y,z,nx,ny,nz,height,px,py,pz,inward\n", 11, &lines)
-                      : check_output(out, "x,y,z,value,dx,dy,dz\n", 7, &lines);
+    int bad = perturb ? check_output(out, "x,y,z,nx,ny,nz,height,px,py,pz,inward", 11, &lines)
+                      : check_output(out, "x,y,z,value,dx,dy,dz", 7, &lines);
     FUZZ_CHECK(!bad, "an output line with the wrong number of fields");
     FUZZ_CHECK(lines >= 1, "empty output");
     unlink(out);
