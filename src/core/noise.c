@@ -143,13 +143,21 @@ double bg_noise3d_grad(double x, double y, double z, bg_dvec3 *grad)
     return v;
 }
 
+/* Single points cannot return a status: a NULL or out-of-range descriptor (or
+ * step) gives NaN value and gradient (noise.h), one check per call. */
 float bg_fractal3(const bg_fractal *f, float x, float y, float z)
 {
+    if (!bg_fractal_in_range(f))
+        return NAN;
     return bg_fractal3_point_c(f, x, y, z);
 }
 
 float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *grad)
 {
+    if (!bg_fractal_in_range(f)) {
+        grad->x = grad->y = grad->z = NAN;
+        return NAN;
+    }
     float g[3], v = bg_fractal3_grad_point_c(f, x, y, z, g);
     grad->x = g[0], grad->y = g[1], grad->z = g[2];
     return v;
@@ -158,6 +166,10 @@ float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *
 float bg_fractal3_grad_central(const bg_fractal *f, float h, float x, float y, float z,
                                bg_vec3 *grad)
 {
+    if (!bg_fractal_in_range(f) || !bg_central_step_ok(h)) {
+        grad->x = grad->y = grad->z = NAN;
+        return NAN;
+    }
     float v;
     bg_kernels_c.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
     return v;
@@ -171,6 +183,10 @@ double bg_fractal3d(const bg_fractal *f, double x, double y, double z)
 
 double bg_fractal3d_grad(const bg_fractal *f, double x, double y, double z, bg_dvec3 *grad)
 {
+    if (!bg_fractal_in_range(f)) {
+        grad->x = grad->y = grad->z = NAN;
+        return NAN;
+    }
     double v;
     bg_kernels_c64.fractal3_grad(f, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
     return v;
@@ -179,6 +195,10 @@ double bg_fractal3d_grad(const bg_fractal *f, double x, double y, double z, bg_d
 double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x, double y, double z,
                                  bg_dvec3 *grad)
 {
+    if (!bg_fractal_in_range(f) || !bg_central_step_ok(h)) {
+        grad->x = grad->y = grad->z = NAN;
+        return NAN;
+    }
     double v;
     bg_kernels_c64.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
     return v;

@@ -343,6 +343,43 @@ static void test_point_misuse(void)
     CHECK(bg_octaves_for_footprint(0.0f, BG_MAX_OCTAVES) == (float)BG_MAX_OCTAVES,
           "32 octaves at footprint 0");
     CHECK(bg_octaves_for_footprint(0.0f, 0) == 0.0f, "0 octaves");
+
+    /* Single-point fractal calls: a NULL or out-of-range descriptor, or a bad
+     * central step, gives NaN value and gradient (noise.h), never a guess. */
+    bg_fractal bads[4] = {bg_fractal_default(BG_FUNC_FBM), bg_fractal_default(BG_FUNC_FBM),
+                          bg_fractal_default(BG_FUNC_FBM), bg_fractal_default(BG_FUNC_FBM)};
+    bads[0].function = (bg_function)7;
+    bads[1].octaves = 1000;
+    bads[2].lacunarity = 0;
+    bads[3].gain = NAN;
+    for (int k = 0; k <= 4; k++) {
+        const bg_fractal *f = k < 4 ? &bads[k] : NULL;
+        bg_vec3 g;
+        bg_dvec3 gd;
+        float a = bg_fractal3(f, 0.3f, 0.2f, 0.1f), b = bg_fractal3_grad(f, 0.3f, 0.2f, 0.1f, &g);
+        double c = bg_fractal3d(f, 0.3, 0.2, 0.1), d = bg_fractal3d_grad(f, 0.3, 0.2, 0.1, &gd);
+        CHECK(isnan(a) && isnan(b) && isnan(g.x) && isnan(g.z) && isnan(c) && isnan(d) &&
+                  isnan(gd.y),
+              "single-point fractal with bad descriptor %d: %g %g %g %g", k, (double)a,
+              (double)b, c, d);
+        float e = bg_fractal3_grad_central(f, 1e-3f, 0.3f, 0.2f, 0.1f, &g);
+        double h = bg_fractal3d_grad_central(f, 1e-3, 0.3, 0.2, 0.1, &gd);
+        CHECK(isnan(e) && isnan(g.y) && isnan(h) && isnan(gd.x),
+              "central single point with bad descriptor %d", k);
+    }
+    bg_fractal ok = bg_fractal_default(BG_FUNC_FBM);
+    const float hs[] = {0.0f, -1.0f, NAN, INFINITY};
+    for (int k = 0; k < 4; k++) {
+        bg_vec3 g;
+        bg_dvec3 gd;
+        float e = bg_fractal3_grad_central(&ok, hs[k], 0.3f, 0.2f, 0.1f, &g);
+        double h = bg_fractal3d_grad_central(&ok, (double)hs[k], 0.3, 0.2, 0.1, &gd);
+        CHECK(isnan(e) && isnan(g.x) && isnan(h) && isnan(gd.z), "central step %g gives NaN",
+              (double)hs[k]);
+    }
+    bg_vec3 g0;
+    CHECK(isfinite(bg_fractal3_grad(&ok, 0.3f, 0.2f, 0.1f, &g0)) && isfinite(g0.x),
+          "a valid descriptor still gives finite results");
     printf("single-point misuse: unknown methods, bad heights, footprint helpers: %d wrong\n",
            bad);
 }
