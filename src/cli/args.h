@@ -16,7 +16,7 @@
  *   --flag takes no value
  *   --opt: expected ..., got "TEXT"
  *
- * Converting a command (render, mesh and bench are still hand-parsed):
+ * Converting a command (bench is the last one still parsed by hand):
  *   1. Put every option in a `CMD_args` struct; write `static void
  *      CMD_defaults(void *a)` that sets every default (bgt_height_init for a
  *      height, then overrides).

@@ -23,11 +23,11 @@ typedef struct cli_command {
     const char *name;
     const char *summary;
     int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
-    /* The option table (args.h) of a converted command; NULL for the commands
-     * still parsed by hand (their --opt=value is split by main.c). */
+    /* The option table (args.h) of a converted command; NULL for a command
+     * still parsed by hand (bench: its --opt=value is split by main.c). */
     const struct cli_spec *spec;
     /* Unconverted commands: options main.c must leave to them although they
-     * look global (bench --isa, mesh --quiet). NULL-terminated or NULL. */
+     * look global (bench --isa). NULL-terminated or NULL. */
     const char *const *own;
 } cli_command;
 
@@ -43,7 +43,7 @@ int cmd_volume(int argc, char **argv);
 int cmd_heightmap(int argc, char **argv);
 /* Specs of the commands on the table parser (args.h). */
 extern const struct cli_spec cli_spec_eval, cli_spec_perturb, cli_spec_accuracy,
-    cli_spec_stability, cli_spec_volume, cli_spec_heightmap;
+    cli_spec_stability, cli_spec_volume, cli_spec_heightmap, cli_spec_render, cli_spec_mesh;
 
 /* ---- messages ---- */
 /* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_USAGE for chaining. */
@@ -57,9 +57,7 @@ int cli_parse_float(const char *cmd, const char *opt, const char *text, float *o
 int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out);
 int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, long hi, long *out);
 /* Names of functions ("noise", "fbm", "turbulence") and perturbation methods
- * ("surfgrad", "additive", "additive-perlin"): parse (error names the option) and print. */
-int cli_parse_function(const char *cmd, const char *opt, const char *text, bg_function *out);
-int cli_parse_method(const char *cmd, const char *opt, const char *text, bg_perturb_method *out);
+ * ("surfgrad", "additive", "additive-perlin"); parsed by the option tables. */
 const char *cli_function_name(bg_function f);
 const char *cli_method_name(bg_perturb_method m);
 /* Option value: argv[*i + 1], advancing *i; error if missing. */
@@ -106,13 +104,6 @@ void cli_progress_end(cli_progress *p);
 /* A tools progress callback that drives `p` (begin/update/end). */
 bgt_progress cli_progress_sink(cli_progress *p);
 
-/* ---- height-function options shared by perturb, render, mesh, volume:
- * --function noise|fbm|turbulence --octaves N --lacunarity L --gain G
- * --amplitude A --frequency F --gradient analytic|central --step H
- * (and, with the tools, --height-grid FILE.vdb[:GRID]). ---- */
-/* If argv[*i] is a height option, consume it (and its value): returns 1; returns 0
- * if it is not one; CLI_USAGE (after printing) on a bad value. */
-int cli_height_option(const char *cmd, bgt_height *h, int argc, char **argv, int *i);
-/* The --help lines for these options. */
-void cli_height_help(FILE *fp);
+/* ---- height-function options shared by perturb, render, mesh, volume,
+ * heightmap: the table fragment cli_height_opts (args.h, heightopt.c). ---- */
 #endif

@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* `bumpgrad mesh`: bump a real mesh (any format assimp reads) with a solid
  * height field, per vertex into a PLY and/or baked into a normal map. This
- * file parses the options, runs the tool (bgt_mesh_run, src/tools/mesh/
+ * file parses the options (one table, args.h), runs the tool (bgt_mesh_run, src/tools/mesh/
  * mesh_job.c) and prints its summary. Format, conventions and measurements:
  * docs/MESH.md. */
 #include <stdlib.h>
 #include <string.h>
+#include "args.h"
 #include "cli.h"
 #include "json.h"
 #include "mesh/mesh_tool.h"
@@ -61,59 +62,139 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
     cli_json_end(&j);
 }
 
-static void mesh_help(FILE *fp)
+typedef struct mesh_args {
+    const char *bake_path;
+    int method, compare, ascii, recompute, json, threads, join, bake_depth;
+    mesh_bake_opts bake;
+    bgt_height h;
+} mesh_args;
+
+_Static_assert(sizeof(mesh_bake_space) == sizeof(int), "mesh_bake_space is stored as int");
+_Static_assert(sizeof(mesh_tangent_source) == sizeof(int), "mesh_tangent_source is stored as int");
+
+static const char *const join_choices[] = {"auto", "always", "never", NULL};
+static const int join_values[] = {BG_MESH_JOIN_AUTO, BG_MESH_JOIN_ALWAYS, BG_MESH_JOIN_NEVER};
+static const char *const space_choices[] = {"tangent", "object", NULL};
+static const int space_values[] = {MESH_BAKE_TANGENT, MESH_BAKE_OBJECT};
+static const char *const tangents_choices[] = {"mikktspace", "file", NULL};
+static const int tangents_values[] = {MESH_TANGENTS_MIKK, MESH_TANGENTS_FILE};
+static const char *const y_choices[] = {"+y", "-y", NULL};
+static const char *const depth_choices[] = {"8", "16", "half", "float", NULL};
+static const int depth_values[] = {BG_PIXEL_U8, BG_PIXEL_U16, BG_PIXEL_HALF, BG_PIXEL_F32};
+
+static void mesh_defaults(void *p)
 {
-    fprintf(fp,
-            "Usage: bumpgrad mesh [options] IN [OUT.ply|OUT.glb|OUT.gltf|OUT.obj]\n"
-            "\n"
-            "Bump the vertex normals of a mesh (OBJ, PLY, OFF, STL, glTF, ... through\n"
-            "assimp) with a solid height field h, and/or bake a normal map:\n"
-            "  surfgrad   n' = normalize(n - grad_S h), grad_S h = g - n (n.g)\n"
-            "             (Mikkelsen 2010, eq. 2 and 4; never faces inward)\n"
-            "  additive   n' = normalize(n - g)   (Perlin's rule, for comparison)\n"
-            "No texture coordinates are needed for OUT.ply; the bake needs UV set 0.\n"
-            "\n"
-            "OUT.ply (binary little-endian unless --ascii), per vertex: x y z, nx ny nz\n"
-            "(perturbed unit normal), ox oy oz (original unit normal), height, then\n"
-            "compare_deg with --compare, then s t if IN has UVs; faces as triangles.\n"
-            "A vertex without a valid normal has (0,0,0) in nx..nz and ox..oz.\n"
-            "OUT.glb / OUT.gltf (glTF 2.0): POSITION, NORMAL (perturbed), TEXCOORD_0 and\n"
-            "TANGENT (mikkTSpace of the perturbed normals, VEC4 with the sign) if IN has\n"
-            "UVs. OUT.obj: positions, perturbed normals, UVs. Other extensions: refused.\n"
-            "\n"
-            "Options:\n"
-            "  --method M            surfgrad (default), additive or additive-perlin\n"
-            "  --compare             add compare_deg: angle between the surfgrad and the\n"
-            "                        additive normal, in degrees\n"
-            "  --recompute-normals   ignore normals in IN; use angle-weighted vertex\n"
-            "                        normals (the default when IN has none)\n"
-            "  --join MODE           auto (default: keep PLY vertices one for one, merge\n"
-            "                        identical vertices of other formats), always, never;\n"
-            "                        a mesh with a NaN/Inf position is never merged\n"
-            "  --ascii               ASCII PLY instead of binary little-endian\n"
-            "  --threads N           worker threads (default: all cores)\n"
-            "  --quiet               no summary\n"
-            "  --json                the summary as one JSON object on stdout\n"
-            "  -h, --help            this help\n"
-            "\n"
-            "Normal-map bake (needs UV set 0):\n"
-            "  --bake-normal-map FILE  write a normal map (format from the extension,\n"
-            "                        through OpenImageIO; OUT.ply then optional)\n"
-            "  --size N | WxH        map size in texels (required with the bake)\n"
-            "  --space S             tangent (default; mikkTSpace convention) or object\n"
-            "  --padding P           dilate the baked texels into empty ones P times\n"
-            "                        (default 4)\n"
-            "  --bake-depth D        8, 16, half or float (default: half for .exr, else 8)\n"
-            "  --tangents T          tangent frame of --space tangent: mikktspace (default;\n"
-            "                        mikkTSpace of the vertex normals and UVs, what Blender,\n"
-            "                        Unity, Unreal, Substance and glTF viewers rebuild) or\n"
-            "                        file (the tangents stored in IN, e.g. glTF TANGENT)\n"
-            "  --normal-map-y Y      +y (default; OpenGL, Blender, glTF, Unity) or -y\n"
-            "                        (DirectX, Unreal): the green channel's direction\n"
-            "UV islands that overlap in the map are counted in the summary (the later\n"
-            "triangle wins a shared texel); that is not an error.\n");
-    cli_height_help(fp);
-    fprintf(fp,
+    mesh_args *a = p;
+    memset(a, 0, sizeof *a);
+    a->method = BG_PERTURB_SURFGRAD;
+    a->join = BG_MESH_JOIN_AUTO;
+    a->bake_depth = -1; /* half for .exr, else 8 bits */
+    a->bake.space = MESH_BAKE_TANGENT;
+    a->bake.padding = 4;
+    a->bake.tangents = MESH_TANGENTS_MIKK;
+    bgt_height_init(&a->h);
+}
+
+/* --size N or WxH; the field is the mesh_bake_opts. */
+static int parse_size(const char *cmd, const char *opt, char *text, void *field)
+{
+    mesh_bake_opts *b = field;
+    char *end;
+    long w = strtol(text, &end, 10), h = w;
+    if (end != text && (*end == 'x' || *end == 'X')) {
+        const char *s = end + 1;
+        h = strtol(s, &end, 10);
+        if (end == s)
+            h = 0;
+    }
+    if (end == text || *end || w < 1 || h < 1 || w > 16384 || h > 16384)
+        return cli_usage_error(cmd, "%s: expected N or WxH with 1..16384 texels, got \"%s\"", opt,
+                               text);
+    b->width = (int)w;
+    b->height = (int)h;
+    return 0;
+}
+
+#define A(m) offsetof(mesh_args, m)
+static const cli_opt mesh_opts_table[] = {
+    {.name = "method", .kind = CLI_KIND_CHOICE, .offset = A(method), .metavar = "M",
+     .help = "surfgrad, additive or additive-perlin", .choices = cli_method_choices,
+     .choice_values = cli_method_values},
+    {.name = "compare", .kind = CLI_KIND_FLAG, .offset = A(compare),
+     .help = "add compare_deg: angle between the surfgrad and the additive normal, in degrees"},
+    {.name = "recompute-normals", .kind = CLI_KIND_FLAG, .offset = A(recompute),
+     .help = "ignore normals in IN; use angle-weighted vertex normals (the default when IN has "
+             "none)"},
+    {.name = "join", .kind = CLI_KIND_CHOICE, .offset = A(join), .metavar = "MODE",
+     .help = "auto (keep PLY vertices one for one, merge identical vertices of other formats), "
+             "always, never; a mesh with a NaN/Inf position is never merged",
+     .choices = join_choices, .choice_values = join_values},
+    {.name = "ascii", .kind = CLI_KIND_FLAG, .offset = A(ascii),
+     .help = "ASCII PLY instead of binary little-endian"},
+    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
+     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024, .flags = CLI_ZERO_NONE},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "the summary as one JSON object on stdout"},
+    CLI_OPT_END,
+};
+static const cli_opt mesh_bake_table[] = {
+    {.name = "bake-normal-map", .kind = CLI_KIND_STRING, .offset = A(bake_path),
+     .metavar = "FILE", .help = "write a normal map (format from the extension, through "
+                                "OpenImageIO; OUT then optional)",
+     .flags = CLI_FILE},
+    {.name = "size", .kind = CLI_KIND_CUSTOM, .offset = A(bake), .metavar = "N|WxH",
+     .help = "map size in texels (required with the bake)", .parse = parse_size},
+    {.name = "space", .kind = CLI_KIND_CHOICE, .offset = A(bake.space), .metavar = "S",
+     .help = "tangent (mikkTSpace convention) or object", .choices = space_choices,
+     .choice_values = space_values},
+    {.name = "padding", .kind = CLI_KIND_INT, .offset = A(bake.padding), .metavar = "P",
+     .help = "dilate the baked texels into empty ones P times", .lo = 0, .hi = 4096},
+    {.name = "bake-depth", .kind = CLI_KIND_CHOICE, .offset = A(bake_depth), .metavar = "D",
+     .help = "8, 16, half or float (default: half for .exr, else 8)", .flags = CLI_NO_DEFAULT,
+     .choices = depth_choices, .choice_values = depth_values},
+    {.name = "tangents", .kind = CLI_KIND_CHOICE, .offset = A(bake.tangents), .metavar = "T",
+     .help = "tangent frame of --space tangent: mikktspace (mikkTSpace of the vertex normals "
+             "and UVs, what Blender, Unity, Unreal, Substance and glTF viewers rebuild) or file "
+             "(the tangents stored in IN, e.g. glTF TANGENT)",
+     .choices = tangents_choices, .choice_values = tangents_values},
+    {.name = "normal-map-y", .kind = CLI_KIND_CHOICE, .offset = A(bake.green_down),
+     .metavar = "Y", .help = "+y (OpenGL, Blender, glTF, Unity) or -y (DirectX, Unreal): the "
+                             "green channel's direction",
+     .choices = y_choices},
+    CLI_OPT_END,
+};
+static const cli_opt mesh_table[] = {
+    CLI_OPT_INCLUDE(0, mesh_opts_table, NULL),
+    CLI_OPT_INCLUDE(0, mesh_bake_table, "Normal-map bake (needs UV set 0):"),
+    CLI_OPT_INCLUDE(A(h), cli_height_opts, cli_height_heading),
+    CLI_OPT_END,
+};
+#undef A
+
+const cli_spec cli_spec_mesh = {
+    .name = "mesh",
+    .summary = "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a "
+               "normal map",
+    .usage = "[options] IN [OUT.ply|OUT.glb|OUT.gltf|OUT.obj]",
+    .about =
+        "Bump the vertex normals of a mesh (OBJ, PLY, OFF, STL, glTF, ... through\n"
+        "assimp) with a solid height field h, and/or bake a normal map:\n"
+        "  surfgrad   n' = normalize(n - grad_S h), grad_S h = g - n (n.g)\n"
+        "             (Mikkelsen 2010, eq. 2 and 4; never faces inward)\n"
+        "  additive   n' = normalize(n - g)   (Perlin's rule, for comparison)\n"
+        "No texture coordinates are needed for OUT.ply; the bake needs UV set 0.\n"
+        "\n"
+        "OUT.ply (binary little-endian unless --ascii), per vertex: x y z, nx ny nz\n"
+        "(perturbed unit normal), ox oy oz (original unit normal), height, then\n"
+        "compare_deg with --compare, then s t if IN has UVs; faces as triangles.\n"
+        "A vertex without a valid normal has (0,0,0) in nx..nz and ox..oz.\n"
+        "OUT.glb / OUT.gltf (glTF 2.0): POSITION, NORMAL (perturbed), TEXCOORD_0 and\n"
+        "TANGENT (mikkTSpace of the perturbed normals, VEC4 with the sign) if IN has\n"
+        "UVs. OUT.obj: positions, perturbed normals, UVs. Other extensions: refused.\n"
+        "OUT \"-\" writes the PLY to standard output (the summary then goes to stderr).\n",
+    .opts = mesh_table,
+    .more = "UV islands that overlap in the map are counted in the summary (the later\n"
+            "triangle wins a shared texel); that is not an error.\n"
             "\n"
             "Outputs are written to temporary files and renamed into place only when\n"
             "everything succeeded. Exit status: 0 success, 1 I/O failure or out of\n"
@@ -123,145 +204,24 @@ static void mesh_help(FILE *fp)
             "Examples:\n"
             "  bumpgrad mesh --compare model.obj bumped.ply\n"
             "  bumpgrad mesh --function fbm --frequency 8 --amplitude 0.02 \\\n"
-            "      --bake-normal-map normals.png --size 1024 model.ply\n");
-}
-
-static int parse_size(const char *cmd, const char *text, int *w, int *h)
-{
-    char *end;
-    long a = strtol(text, &end, 10), b = a;
-    if (end != text && (*end == 'x' || *end == 'X')) {
-        const char *s = end + 1;
-        b = strtol(s, &end, 10);
-        if (end == s)
-            b = 0;
-    }
-    if (end == text || *end || a < 1 || b < 1 || a > 16384 || b > 16384)
-        return cli_usage_error(cmd, "--size: expected N or WxH with 1..16384 texels, got \"%s\"",
-                               text);
-    *w = (int)a;
-    *h = (int)b;
-    return 0;
-}
+            "      --bake-normal-map normals.png --size 1024 model.ply\n",
+    .args_size = sizeof(mesh_args),
+    .defaults = mesh_defaults,
+    .max_positional = 2,
+};
 
 int cmd_mesh(int argc, char **argv)
 {
-    const char *cmd = "mesh", *in_path = NULL, *out_path = NULL, *bake_path = NULL, *v;
-    bg_perturb_method method = BG_PERTURB_SURFGRAD;
-    int compare = 0, ascii = 0, recompute = 0, quiet = 0, json = 0, threads = 0, rc;
-    unsigned join = BG_MESH_JOIN_AUTO;
-    mesh_bake_opts bake = {.width = 0, .height = 0, .space = MESH_BAKE_TANGENT, .padding = 4};
-    int bake_depth = -1;
-    bake.tangents = MESH_TANGENTS_MIKK;
-    bake.green_down = 0;
-    long l;
-    bgt_height h;
-    bgt_height_init(&h);
-    for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (strcmp(o, "-h") == 0 || strcmp(o, "--help") == 0) {
-            mesh_help(stdout);
-            return CLI_OK;
-        } else if (strcmp(o, "--method") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if ((rc = cli_parse_method(cmd, o, v, &method)))
-                return rc;
-        } else if (strcmp(o, "--compare") == 0) {
-            compare = 1;
-        } else if (strcmp(o, "--ascii") == 0) {
-            ascii = 1;
-        } else if (strcmp(o, "--recompute-normals") == 0) {
-            recompute = 1;
-        } else if (strcmp(o, "--quiet") == 0) {
-            quiet = 1;
-        } else if (strcmp(o, "--json") == 0) {
-            json = 1;
-        } else if (strcmp(o, "--join") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "auto") == 0)
-                join = BG_MESH_JOIN_AUTO;
-            else if (strcmp(v, "always") == 0)
-                join = BG_MESH_JOIN_ALWAYS;
-            else if (strcmp(v, "never") == 0)
-                join = BG_MESH_JOIN_NEVER;
-            else
-                return cli_usage_error(cmd, "--join: expected auto, always or never, got \"%s\"", v);
-        } else if (strcmp(o, "--threads") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_int(cmd, o, v, 0, 1024, &l)))
-                return rc;
-            threads = (int)l;
-        } else if (strcmp(o, "--bake-normal-map") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &bake_path)))
-                return rc;
-        } else if (strcmp(o, "--size") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = parse_size(cmd, v, &bake.width, &bake.height)))
-                return rc;
-        } else if (strcmp(o, "--space") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "tangent") == 0)
-                bake.space = MESH_BAKE_TANGENT;
-            else if (strcmp(v, "object") == 0)
-                bake.space = MESH_BAKE_OBJECT;
-            else
-                return cli_usage_error(cmd, "--space: expected tangent or object, got \"%s\"", v);
-        } else if (strcmp(o, "--padding") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)) ||
-                (rc = cli_parse_int(cmd, o, v, 0, 4096, &l)))
-                return rc;
-            bake.padding = (int)l;
-        } else if (strcmp(o, "--tangents") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "mikktspace") == 0)
-                bake.tangents = MESH_TANGENTS_MIKK;
-            else if (strcmp(v, "file") == 0)
-                bake.tangents = MESH_TANGENTS_FILE;
-            else
-                return cli_usage_error(cmd, "--tangents: expected mikktspace or file, got \"%s\"",
-                                       v);
-        } else if (strcmp(o, "--normal-map-y") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "+y") == 0)
-                bake.green_down = 0;
-            else if (strcmp(v, "-y") == 0)
-                bake.green_down = 1;
-            else
-                return cli_usage_error(cmd, "--normal-map-y: expected +y or -y, got \"%s\"", v);
-        } else if (strcmp(o, "--bake-depth") == 0) {
-            if ((rc = cli_need_value(cmd, argc, argv, &i, &v)))
-                return rc;
-            if (strcmp(v, "8") == 0)
-                bake_depth = BG_PIXEL_U8;
-            else if (strcmp(v, "16") == 0)
-                bake_depth = BG_PIXEL_U16;
-            else if (strcmp(v, "half") == 0)
-                bake_depth = BG_PIXEL_HALF;
-            else if (strcmp(v, "float") == 0)
-                bake_depth = BG_PIXEL_F32;
-            else
-                return cli_usage_error(cmd, "--bake-depth: expected 8, 16, half or float, got \"%s\"",
-                                       v);
-        } else if (o[0] == '-' && o[1] != '\0') {
-            int r = cli_height_option(cmd, &h, argc, argv, &i);
-            if (r == CLI_USAGE)
-                return r;
-            if (r == 0)
-                return cli_usage_error(cmd, "unknown option \"%s\" (see bumpgrad mesh --help)", o);
-        } else if (!in_path) {
-            in_path = o;
-        } else if (!out_path) {
-            out_path = o;
-        } else {
-            return cli_usage_error(cmd, "unexpected argument \"%s\" (IN and OUT.ply already given)",
-                                   o);
-        }
-    }
+    const char *cmd = "mesh", *pos[2] = {NULL, NULL};
+    mesh_args a;
+    int npos = 0;
+    int rc = cli_args_parse(&cli_spec_mesh, argc, argv, &a, pos, &npos);
+    if (rc)
+        return rc == CLI_HELP ? CLI_OK : rc;
+    const char *in_path = pos[0], *out_path = pos[1], *bake_path = a.bake_path;
+    bg_perturb_method method = (bg_perturb_method)a.method;
+    const mesh_bake_opts bake = a.bake;
+    int ascii = a.ascii;
     if (!in_path)
         return cli_usage_error(cmd, "missing the input mesh (see bumpgrad mesh --help)");
     if (!out_path && !bake_path)
@@ -271,19 +231,19 @@ int cmd_mesh(int argc, char **argv)
     if (!bake_path && bake.width != 0)
         return cli_usage_error(cmd, "--size is for --bake-normal-map");
     bgt_mesh_opts opts = {.input = in_path, .output = out_path, .bake_path = bake_path,
-                          .height = &h, .method = method, .compare = compare, .ascii = ascii,
-                          .recompute_normals = recompute, .join = join, .threads = threads,
-                          .bake = bake, .bake_depth = bake_depth};
+                          .height = &a.h, .method = method, .compare = a.compare, .ascii = ascii,
+                          .recompute_normals = a.recompute, .join = (unsigned)a.join,
+                          .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth};
     bgt_mesh_result r;
     bgt_err err;
     bg_status st = bgt_mesh_run(&opts, &r, &err);
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
-    if (json) {
+    if (a.json) {
         print_json(&opts, &r);
         return CLI_OK;
     }
-    if (!quiet) {
+    if (!cli_quiet()) {
         FILE *fp = out_path && strcmp(out_path, "-") == 0 ? stderr : stdout;
         fprintf(fp, "mesh: %s: %zu vertices, %zu triangles (%zu scene meshes", in_path,
                 r.vertex_count, r.triangle_count, r.mesh_count);

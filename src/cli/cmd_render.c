@@ -3,8 +3,8 @@
  * with a chosen normal-perturbation method, or several side by side with a
  * heat map of each one's angle error against the analytic surface gradient
  * (eq. 2 and 4, Listing 3), and the presets that reproduce Figures 1, 2, 3.
- * This file parses the options into a render_opts, calls render_image
- * (src/tools/render) and prints its statistics. */
+ * This file parses the options (one table, args.h) into a render_opts, calls
+ * render_image (src/tools/render) and prints its statistics. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -13,17 +13,345 @@
 #include <time.h>
 #include <strings.h>
 #include <unistd.h>
+#include "args.h"
 #include "cli.h"
 #include "json.h"
 #include "render/render.h"
 
 static const char *const CMD = "render";
 
-/* What only the command does with the results: --json, --fail-above. */
-static struct {
+/* Everything `bumpgrad render` parses: the tool's options and what only the
+ * command does with the results (--json, --fail-above). */
+typedef struct render_args {
+    render_opts o;
     int json;
     float fail_above; /* < 0: off */
-} render_cli = {0, -1.0f};
+} render_args;
+
+_Static_assert(sizeof(render_shape) == sizeof(int), "render_shape is stored as int");
+_Static_assert(sizeof(render_tracer) == sizeof(int), "render_tracer is stored as int");
+_Static_assert(sizeof(render_preset) == sizeof(int), "render_preset is stored as int");
+
+/* The preset goes first so that any other option overrides it: cmd_render
+ * finds it in argv before the parse, and the defaults function applies it. */
+static render_preset preset_asked = PRESET_NONE;
+
+static const char *const preset_choices[] = {"fig1", "fig2", "fig3", "fig4", NULL};
+static const int preset_values[] = {PRESET_FIG1, PRESET_FIG2, PRESET_FIG3, PRESET_FIG4};
+static const char *const shape_choices[] = {"sphere", "blob", "torus", NULL};
+static const int shape_values[] = {RENDER_SPHERE, RENDER_BLOB, RENDER_TORUS};
+static const char *const tracer_choices[] = {"auto", "bvh", "embree", NULL};
+static const int tracer_values[] = {TRACER_AUTO, TRACER_BVH, TRACER_EMBREE};
+
+static void render_defaults(void *p)
+{
+    render_args *a = p;
+    memset(a, 0, sizeof *a);
+    render_opts_default(&a->o);
+    a->o.preset = preset_asked;
+    render_apply_preset(&a->o);
+    a->fail_above = -1.0f;
+}
+
+static int add_method(const char *cmd, render_opts *o, const char *name)
+{
+    render_method m;
+    if (render_method_parse(name, &m) != 0)
+        return cli_usage_error(cmd,
+                               "unknown method \"%s\" (expected none, surfgrad, surfgrad-central, "
+                               "listing1, listing1-coarse, additive, flat, surfgrad-footprint, "
+                               "listing1-heightmap, listing1-heightmap-central, normalmap, "
+                               "surfgrad-heightmap or detail)",
+                               name);
+    if (o->nmethods == RENDER_MAX_METHODS)
+        return cli_usage_error(cmd, "--compare: at most %d methods", RENDER_MAX_METHODS);
+    o->methods[o->nmethods++] = m;
+    return 0;
+}
+
+static int parse_method(const char *cmd, const char *opt, char *text, void *field)
+{
+    (void)opt;
+    render_opts *o = field;
+    o->nmethods = 0, o->compare = 0;
+    return add_method(cmd, o, text);
+}
+
+static int format_method(const void *field, char *buf, size_t len)
+{
+    const render_opts *o = field;
+    if (o->compare || o->nmethods != 1)
+        return 0;
+    snprintf(buf, len, "%s", render_method_name(o->methods[0]));
+    return 1;
+}
+
+static int parse_compare(const char *cmd, const char *opt, char *text, void *field)
+{
+    render_opts *o = field;
+    if (!*text)
+        return cli_usage_error(cmd, "%s: bad list \"%s\"", opt, text);
+    o->nmethods = 0;
+    for (char *s = text, *e; s; s = e) {
+        e = strchr(s, ',');
+        if (e)
+            *e++ = '\0';
+        if (add_method(cmd, o, s))
+            return CLI_USAGE;
+    }
+    o->compare = 1;
+    return 0;
+}
+
+static int parse_size(const char *cmd, const char *opt, char *text, void *field)
+{
+    render_opts *o = field;
+    char *end;
+    long a = strtol(text, &end, 10);
+    if (end == text || (*end != 'x' && *end != 'X'))
+        return cli_usage_error(cmd, "%s: expected WxH (e.g. 384x384), got \"%s\"", opt, text);
+    const char *s2 = end + 1;
+    long b = strtol(s2, &end, 10);
+    if (end == s2 || *end || a < 2 || b < 2 || a > 16384 || b > 16384)
+        return cli_usage_error(cmd, "%s: expected WxH with 2..16384 each, got \"%s\"", opt, text);
+    o->width = (int)a, o->height = (int)b;
+    return 0;
+}
+
+static int format_size(const void *field, char *buf, size_t len)
+{
+    const render_opts *o = field;
+    snprintf(buf, len, "%dx%d", o->width, o->height);
+    return 1;
+}
+
+static int parse_spp(const char *cmd, const char *opt, char *text, void *field)
+{
+    long l;
+    if (cli_parse_int(cmd, opt, text, 1, 256, &l))
+        return CLI_USAGE;
+    int s = (int)lround(sqrt((double)l));
+    if ((long)s * s != l)
+        return cli_usage_error(cmd, "%s: must be a square (1, 4, 9, 16, ...), got %ld", opt, l);
+    *(int *)field = s;
+    return 0;
+}
+
+static int format_spp(const void *field, char *buf, size_t len)
+{
+    int s = *(const int *)field;
+    snprintf(buf, len, "%d", s * s);
+    return 1;
+}
+
+/* X,Y,Z into three floats, all finite. */
+static int parse_xyz(const char *cmd, const char *opt, const char *text, float v[3])
+{
+    char *e1, *e2 = NULL, *e3 = NULL;
+    double x = strtod(text, &e1), y = *e1 == ',' ? strtod(e1 + 1, &e2) : 0,
+           z = (*e1 == ',' && *e2 == ',') ? strtod(e2 + 1, &e3) : 0;
+    if (*e1 != ',' || *e2 != ',' || *e3 || !isfinite(x) || !isfinite(y) || !isfinite(z))
+        return cli_usage_error(cmd, "%s: expected X,Y,Z, got \"%s\"", opt, text);
+    v[0] = (float)x, v[1] = (float)y, v[2] = (float)z;
+    return 0;
+}
+
+static int parse_light(const char *cmd, const char *opt, char *text, void *field)
+{
+    return parse_xyz(cmd, opt, text, field) ? CLI_USAGE : 0;
+}
+
+static int format_light(const void *field, char *buf, size_t len)
+{
+    const float *v = field;
+    snprintf(buf, len, "%g,%g,%g", (double)v[0], (double)v[1], (double)v[2]);
+    return 1;
+}
+
+static int parse_view(const char *cmd, const char *opt, char *text, void *field)
+{
+    render_opts *o = field;
+    float v[3] = {0, 0, 0};
+    if (parse_xyz(cmd, opt, text, v))
+        return CLI_USAGE;
+    if (v[0] == 0 && v[1] == 0 && v[2] == 0)
+        return cli_usage_error(cmd, "%s: must not be 0,0,0", opt);
+    memcpy(o->view, v, sizeof v);
+    o->view_set = 1;
+    return 0;
+}
+
+static int parse_zoom(const char *cmd, const char *opt, char *text, void *field)
+{
+    render_opts *o = field;
+    float z;
+    if (cli_parse_float(cmd, opt, text, &z))
+        return CLI_USAGE;
+    if (!(z > 0))
+        return cli_usage_error(cmd, "%s: must be > 0, got \"%s\"", opt, text);
+    o->zoom = z;
+    o->zoom_set = 1;
+    return 0;
+}
+
+static int format_zoom(const void *field, char *buf, size_t len)
+{
+    snprintf(buf, len, "%g", (double)((const render_opts *)field)->zoom);
+    return 1;
+}
+
+#define A(m) offsetof(render_args, m)
+#define O(m) offsetof(render_args, o.m)
+static const cli_opt render_opts_table[] = {
+    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = O(output),
+     .metavar = "FILE", .help = "the image (required): .png (8-bit sRGB) or .exr (32-bit float, "
+                                "linear); also .tif/.hdr (float, linear), .jpg/.ppm/.bmp/.tga "
+                                "(8-bit sRGB)",
+     .flags = CLI_FILE | CLI_NO_DEFAULT, .complete_ext = "png|exr|tif|hdr|jpg|ppm|bmp|tga"},
+    {.name = "method", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "M",
+     .help = "perturbation method (see above)", .parse = parse_method, .format = format_method},
+    {.name = "compare", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "M1,M2,..",
+     .help = "side-by-side panel of up to 8 methods with heat maps of the angle error against "
+             "analytic surfgrad",
+     .parse = parse_compare},
+    {.name = "preset", .kind = CLI_KIND_CHOICE, .offset = O(preset), .metavar = "P",
+     .help = "fig1, fig2, fig3 or fig4: the paper's figures (any other option given overrides "
+             "the preset's setting); fig4 uses assimp-testmodels' OBJ/spider.obj unless --mesh "
+             "is given",
+     .flags = CLI_NO_DEFAULT, .choices = preset_choices, .choice_values = preset_values},
+    {.name = "scene", .kind = CLI_KIND_CHOICE, .offset = O(shape), .metavar = "S",
+     .help = "sphere, blob or torus (isosurfaces)", .choices = shape_choices,
+     .choice_values = shape_values},
+    {.name = "grid", .kind = CLI_KIND_INT, .offset = O(grid), .metavar = "N",
+     .help = "marching-tetrahedra cells per axis, 4..400", .lo = 4, .hi = 400},
+    {.name = "size", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "WxH",
+     .help = "image size in pixels (per method)", .parse = parse_size, .format = format_size},
+    {.name = "spp", .kind = CLI_KIND_CUSTOM, .offset = O(ss), .metavar = "N",
+     .help = "samples per pixel, a square 1, 4, 9, .. 256; a regular s x s grid, i.e. s times "
+             "the pixel density",
+     .parse = parse_spp, .format = format_spp},
+    {.name = "distance", .kind = CLI_KIND_FLOAT, .offset = O(distance), .metavar = "D",
+     .help = "camera distance from the centre, > 1.5 (outside the object)", .flags = CLI_GT_LO,
+     .lo = 1.5},
+    {.name = "zoom", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "Z",
+     .help = "focal-length factor, > 0 (2 = twice as close-up; a --mesh is framed automatically "
+             "unless --zoom is given)",
+     .parse = parse_zoom, .format = format_zoom},
+    {.name = "light", .kind = CLI_KIND_CUSTOM, .offset = O(light), .metavar = "X,Y,Z",
+     .help = "point-light position (camera on +z)", .parse = parse_light, .format = format_light},
+    {.name = "view", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "X,Y,Z",
+     .help = "camera direction from the centre (default 0,0.28,1)", .parse = parse_view},
+    {.name = "closeup", .kind = CLI_KIND_INT, .offset = O(closeup), .metavar = "K",
+     .help = "add a row with a K-times magnified crop (Figure 3c/d), 0 = none", .lo = 0, .hi = 16,
+     .flags = CLI_ZERO_NONE},
+    {.name = "heat-max", .kind = CLI_KIND_FLOAT, .offset = O(heat_max), .metavar = "DEG",
+     .help = "angle error shown at the top of the heat map, > 0", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "sweep", .kind = CLI_KIND_FLAG, .offset = O(sweep),
+     .help = "print the error against surfgrad at 1/4..4x pixel density"},
+    {.name = "threads", .kind = CLI_KIND_INT, .offset = O(threads), .metavar = "N",
+     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024, .flags = CLI_ZERO_NONE},
+    {.name = "mesh", .kind = CLI_KIND_STRING, .offset = O(mesh_path), .metavar = "FILE",
+     .help = "render a mesh file (any format assimp reads) instead of --scene; centred and "
+             "scaled into the unit sphere",
+     .flags = CLI_FILE},
+    {.name = "height-map", .kind = CLI_KIND_STRING, .offset = O(height_map), .metavar = "IMG",
+     .help = "height texture (gray level); default: the OBJ material's bump map, else the gray "
+             "of its albedo (map_Kd)",
+     .flags = CLI_FILE},
+    {.name = "normal-map", .kind = CLI_KIND_STRING, .offset = O(normal_map), .metavar = "IMG",
+     .help = "tangent-space normal map (OpenGL +y); default: the material's, else baked from "
+             "the height texture",
+     .flags = CLI_FILE},
+    {.name = "albedo", .kind = CLI_KIND_STRING, .offset = O(albedo_map), .metavar = "IMG",
+     .help = "albedo texture; default: the material's map_Kd", .flags = CLI_FILE},
+    {.name = "no-albedo", .kind = CLI_KIND_FLAG, .offset = O(no_albedo),
+     .help = "shade with the plain grey albedo"},
+    {.name = "tex-amplitude", .kind = CLI_KIND_FLOAT, .offset = O(tex_amplitude), .metavar = "A",
+     .help = "height of texel value 1, in bounding radii, > 0", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "st-scale", .kind = CLI_KIND_FLOAT, .offset = O(st_scale), .metavar = "S",
+     .help = "texture coordinates times S, > 0 (< 1 magnifies)", .flags = CLI_GT_LO, .lo = 0},
+    {.name = "tracer", .kind = CLI_KIND_CHOICE, .offset = O(tracer), .metavar = "T",
+     .help = "auto (embree for --mesh, bvh for the built-in scenes), bvh or embree",
+     .choices = tracer_choices, .choice_values = tracer_values},
+    {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
+     .help = "print the statistics as one JSON object instead of lines"},
+    {.name = "fail-above", .kind = CLI_KIND_FLOAT, .offset = A(fail_above), .metavar = "DEG",
+     .help = "exit 3 when a method's mean angle to surfgrad exceeds DEG (idiff -fail style, for "
+             "CI; the image is still written)",
+     .flags = CLI_GE_LO | CLI_NO_DEFAULT, .lo = 0},
+    CLI_OPT_INCLUDE(O(h), cli_height_opts, cli_height_heading),
+    CLI_OPT_END,
+};
+#undef A
+#undef O
+
+const cli_spec cli_spec_render = {
+    .name = "render",
+    .summary = "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
+    .usage = "[options] --output FILE.png|FILE.exr\n"
+             "--preset fig1|fig2|fig3|fig4 --output FILE.png\n"
+             "--mesh FILE [--compare M1,M2,..] --output FILE.png",
+    .about =
+        "Ray-casts a sphere or a triangulated isosurface with a solid height field\n"
+        "h(p) = A * F(f * p) and one point light (diffuse + Blinn-Phong), perturbing\n"
+        "the normal with one of the methods of Mikkelsen (2010):\n"
+        "  none              the unperturbed, interpolated normal\n"
+        "  surfgrad          normalize(n - grad_S h), analytic gradient (eq. 4, Listing 3)\n"
+        "  surfgrad-central  the same with a central-difference gradient (--step)\n"
+        "  listing1          Listing 1: ddx_fine/ddy_fine of position and height on\n"
+        "                    2x2 pixel quads, as a GPU computes them\n"
+        "  listing1-coarse   Listing 1 with one derivative per quad (ddx_coarse)\n"
+        "  additive          Perlin's normalize(n - grad h) (Figure 2a)\n"
+        "  flat              cross(tau_s, tau_t) of the displaced position (Figure 1a)\n"
+        "  surfgrad-footprint  surfgrad without the octaves finer than each sample's\n"
+        "                    footprint (from its ray differential); the last kept octave\n"
+        "                    fades out smoothly (bg_perturb_height_footprint_batch)\n"
+        "With --mesh FILE (a mesh with UVs and a height texture):\n"
+        "  listing1-heightmap  Listing 1 fed by Listing 2's forward taps of the height\n"
+        "                    texture (ddx/ddy of position and UV on 2x2 quads)\n"
+        "  listing1-heightmap-central  the same with Listing 2's central taps\n"
+        "  normalmap         tangent-space normal map with interpolated per-vertex\n"
+        "                    tangents (from the UVs; --normal-map, or baked from the height)\n"
+        "  surfgrad-heightmap  eq. 3 on the UV chart with bicubic texture derivatives:\n"
+        "                    the reference of a textured --compare\n"
+        "  detail            the Listing 1/2 height plus the solid --function height\n"
+        "                    (footprint-aware octaves from ray differentials), blended\n"
+        "                    with the surface-gradient resolve\n",
+    .opts = render_opts_table,
+    .more = "Prints one line per method: stats method=M mean_deg p99_deg max_deg (angle\n"
+            "to analytic surfgrad, over the samples that hit) and inward (fraction of\n"
+            "samples whose perturbed normal has dot(n', n) <= 0). The reference, surfgrad\n"
+            "and additive use the analytic gradient and surfgrad-central central\n"
+            "differences with --step, whatever --gradient says. The defaults above are\n"
+            "those without a preset.\n"
+            "\n"
+            "Exit status: 0 success, 1 I/O failure, 2 bad input or usage, 3 --fail-above\n"
+            "exceeded.\n"
+            "\n"
+            "Examples:\n"
+            "  bumpgrad render --preset fig2 --output fig2.png\n"
+            "  bumpgrad render --compare surfgrad,listing1,additive --size 256x256 -o cmp.png\n",
+    .args_size = sizeof(render_args),
+    .defaults = render_defaults,
+};
+
+/* The --preset of argv (the last one, as the parse keeps it), before `--`;
+ * an unknown name is left to the parse, which reports it. */
+static render_preset find_preset(int argc, char **argv)
+{
+    render_preset p = PRESET_NONE;
+    for (int i = 1; i < argc && strcmp(argv[i], "--") != 0; i++) {
+        const char *v = NULL;
+        if (strcmp(argv[i], "--preset") == 0 && i + 1 < argc)
+            v = argv[++i];
+        else if (strncmp(argv[i], "--preset=", 9) == 0)
+            v = argv[i] + 9;
+        for (int k = 0; v && preset_choices[k]; k++)
+            if (strcmp(v, preset_choices[k]) == 0)
+                p = (render_preset)preset_values[k];
+    }
+    return p;
+}
 
 static void print_json(const render_opts *o, const render_result *r, double seconds)
 {
@@ -73,314 +401,16 @@ static void print_json(const render_opts *o, const render_result *r, double seco
 }
 
 
-static void render_help(FILE *fp)
-{
-    fputs("Usage: bumpgrad render [options] --output FILE.png|FILE.exr\n"
-          "       bumpgrad render --preset fig1|fig2|fig3|fig4 --output FILE.png\n"
-          "       bumpgrad render --mesh FILE [--compare M1,M2,..] --output FILE.png\n"
-          "\n"
-          "Ray-casts a sphere or a triangulated isosurface with a solid height field\n"
-          "h(p) = A * F(f * p) and one point light (diffuse + Blinn-Phong), perturbing\n"
-          "the normal with one of the methods of Mikkelsen (2010):\n"
-          "  none              the unperturbed, interpolated normal\n"
-          "  surfgrad          normalize(n - grad_S h), analytic gradient (eq. 4, Listing 3)\n"
-          "  surfgrad-central  the same with a central-difference gradient (--step)\n"
-          "  listing1          Listing 1: ddx_fine/ddy_fine of position and height on\n"
-          "                    2x2 pixel quads, as a GPU computes them\n"
-          "  listing1-coarse   Listing 1 with one derivative per quad (ddx_coarse)\n"
-          "  additive          Perlin's normalize(n - grad h) (Figure 2a)\n"
-          "  flat              cross(tau_s, tau_t) of the displaced position (Figure 1a)\n"
-          "  surfgrad-footprint  surfgrad without the octaves finer than each sample's\n"
-          "                    footprint (from its ray differential); the last kept octave\n"
-          "                    fades out smoothly (bg_perturb_height_footprint_batch)\n",
-          fp);
-    fputs("With --mesh FILE (a mesh with UVs and a height texture):\n"
-          "  listing1-heightmap  Listing 1 fed by Listing 2's forward taps of the height\n"
-          "                    texture (ddx/ddy of position and UV on 2x2 quads)\n"
-          "  listing1-heightmap-central  the same with Listing 2's central taps\n"
-          "  normalmap         tangent-space normal map with interpolated per-vertex\n"
-          "                    tangents (from the UVs; --normal-map, or baked from the height)\n"
-          "  surfgrad-heightmap  eq. 3 on the UV chart with bicubic texture derivatives:\n"
-          "                    the reference of a textured --compare\n"
-          "  detail            the Listing 1/2 height plus the solid --function height\n"
-          "                    (footprint-aware octaves from ray differentials), blended\n"
-          "                    with the surface-gradient resolve\n"
-          "\n"
-          "Options:\n"
-          "  --method M          perturbation method (default surfgrad)\n"
-          "  --compare M1,M2,..  side-by-side panel of up to 8 methods with heat maps of\n"
-          "                      the angle error against analytic surfgrad\n"
-          "  --scene S           sphere (default), blob or torus (isosurfaces)\n"
-          "  --grid N            marching-tetrahedra cells per axis, 4..400 (default 48)\n"
-          "  --size WxH          image size in pixels (default 384x384; per method)\n"
-          "  --spp N             samples per pixel, a square 1, 4, 9, .. 256 (default 1);\n"
-          "                      a regular s x s grid, i.e. s times the pixel density\n"
-          "  --distance D        camera distance from the centre (default 4)\n"
-          "  --zoom Z            focal-length factor (default 1; 2 = twice as close-up;\n"
-          "                      a --mesh is framed automatically unless --zoom is given)\n",
-          fp);
-    fputs(
-          "  --light X,Y,Z       point-light position (default -5,4,3; camera on +z)\n"
-          "  --closeup K         add a row with a K-times magnified crop (Figure 3c/d)\n"
-          "  --heat-max DEG      angle error shown at the top of the heat map (default 20)\n"
-          "  --sweep             print the error against surfgrad at 1/4..4x pixel density\n"
-          "  --threads N         worker threads (default: all cores)\n"
-          "  --preset P          fig1, fig2, fig3 or fig4: the paper's figures (any other\n"
-          "                      option given overrides the preset's setting); fig4 uses\n"
-          "                      assimp-testmodels' OBJ/spider.obj unless --mesh is given\n"
-          "  --mesh FILE         render a mesh file (any format assimp reads) instead of\n"
-          "                      --scene; centred and scaled into the unit sphere\n"
-          "  --height-map IMG    height texture (gray level); default: the OBJ material's\n"
-          "                      bump map, else the gray of its albedo (map_Kd)\n"
-          "  --normal-map IMG    tangent-space normal map (OpenGL +y); default: the\n"
-          "                      material's, else baked from the height texture\n"
-          "  --albedo IMG        albedo texture; default: the material's map_Kd\n"
-          "  --no-albedo         shade with the plain grey albedo\n"
-          "  --tex-amplitude A   height of texel value 1, in bounding radii (default 0.004)\n"
-          "  --st-scale S        texture coordinates times S (< 1 magnifies; default 1)\n"
-          "  --view X,Y,Z        camera direction from the centre (default 0,0.28,1)\n"
-          "  --tracer T          auto (default: embree for --mesh, bvh for the built-in\n"
-          "                      scenes), bvh or embree\n"
-          "  --output FILE       .png (8-bit sRGB) or .exr (32-bit float, linear); also\n"
-          "                      .tif/.hdr (float, linear), .jpg/.ppm/.bmp/.tga (8-bit sRGB)\n"
-          "  --json              print the statistics as one JSON object instead of lines\n"
-          "  --fail-above DEG    exit 3 when a method's mean angle to surfgrad exceeds DEG\n"
-          "                      (idiff -fail style, for CI; the image is still written)\n"
-          "\n"
-          "Prints one line per method: stats method=M mean_deg p99_deg max_deg (angle\n"
-          "to analytic surfgrad, over the samples that hit) and inward (fraction of\n"
-          "samples whose perturbed normal has dot(n', n) <= 0). The reference, surfgrad\n"
-          "and additive use the analytic gradient and surfgrad-central central\n"
-          "differences with --step, whatever --gradient says. Without a preset the\n"
-          "height defaults to --frequency 1 --amplitude 0.06 (6-octave turbulence).\n"
-          "\n",
-          fp);
-    cli_height_help(fp);
-}
-
-static int add_method(render_opts *o, const char *name)
-{
-    render_method m;
-    if (render_method_parse(name, &m) != 0)
-        return cli_usage_error(CMD,
-                               "unknown method \"%s\" (expected none, surfgrad, surfgrad-central, "
-                               "listing1, listing1-coarse, additive, flat, surfgrad-footprint, "
-                               "listing1-heightmap, listing1-heightmap-central, normalmap, "
-                               "surfgrad-heightmap or detail)",
-                               name);
-    if (o->nmethods == RENDER_MAX_METHODS)
-        return cli_usage_error(CMD, "--compare: at most %d methods", RENDER_MAX_METHODS);
-    o->methods[o->nmethods++] = m;
-    return 0;
-}
-
-static int parse_method_list(render_opts *o, const char *text)
-{
-    char buf[256];
-    if (strlen(text) >= sizeof buf || !*text)
-        return cli_usage_error(CMD, "--compare: bad list \"%s\"", text);
-    strcpy(buf, text);
-    o->nmethods = 0;
-    for (char *s = buf, *e; s; s = e) {
-        e = strchr(s, ',');
-        if (e)
-            *e++ = '\0';
-        if (add_method(o, s))
-            return CLI_USAGE;
-    }
-    return 0;
-}
-
-static int parse_size(const char *text, int *w, int *h)
-{
-    char *end;
-    long a = strtol(text, &end, 10);
-    if (end == text || (*end != 'x' && *end != 'X'))
-        return cli_usage_error(CMD, "--size: expected WxH (e.g. 384x384), got \"%s\"", text);
-    const char *s2 = end + 1;
-    long b = strtol(s2, &end, 10);
-    if (end == s2 || *end || a < 2 || b < 2 || a > 16384 || b > 16384)
-        return cli_usage_error(CMD, "--size: expected WxH with 2..16384 each, got \"%s\"", text);
-    *w = (int)a, *h = (int)b;
-    return 0;
-}
-
-static int parse_args(int argc, char **argv, render_opts *o)
-{
-    /* The preset goes first so that any other option overrides it. */
-    for (int i = 1; i < argc; i++)
-        if (strcmp(argv[i], "--preset") == 0) {
-            const char *v;
-            int rc = cli_need_value(CMD, argc, argv, &i, &v);
-            if (rc)
-                return rc;
-            if (strcmp(v, "fig1") == 0)
-                o->preset = PRESET_FIG1;
-            else if (strcmp(v, "fig2") == 0)
-                o->preset = PRESET_FIG2;
-            else if (strcmp(v, "fig3") == 0)
-                o->preset = PRESET_FIG3;
-            else if (strcmp(v, "fig4") == 0)
-                o->preset = PRESET_FIG4;
-            else
-                return cli_usage_error(CMD, "--preset: expected fig1, fig2, fig3 or fig4, got \"%s\"", v);
-        }
-    render_apply_preset(o);
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v;
-        int rc = cli_height_option(CMD, &o->h, argc, argv, &i);
-        if (rc == 1)
-            continue;
-        if (rc != 0)
-            return rc;
-        long l;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            render_help(stdout);
-            return -1;
-        }
-        if (strcmp(a, "--sweep") == 0) {
-            o->sweep = 1;
-            continue;
-        }
-        if (strcmp(a, "--json") == 0) {
-            render_cli.json = 1;
-            continue;
-        }
-        if (strcmp(a, "--no-albedo") == 0) {
-            o->no_albedo = 1;
-            continue;
-        }
-        static const char *const with_value[] = {
-            "--preset", "--method", "--compare", "--scene", "--grid",  "--size",     "--spp",
-            "--distance", "--zoom", "--closeup", "--heat-max", "--threads", "--output", "-o",
-            "--light", "--mesh", "--height-map", "--normal-map", "--albedo", "--tex-amplitude",
-            "--st-scale", "--view", "--tracer", "--fail-above"};
-        int known = 0;
-        for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
-            known |= strcmp(a, with_value[k]) == 0;
-        if (!known) {
-            if (a[0] != '-')
-                return cli_usage_error(CMD, "unexpected argument \"%s\"", a);
-            return cli_usage_error(CMD, "unknown option \"%s\" (see bumpgrad render --help)", a);
-        }
-        if ((rc = cli_need_value(CMD, argc, argv, &i, &v)) != 0)
-            return rc;
-        if (strcmp(a, "--preset") == 0) {
-            continue; /* applied above */
-        } else if (strcmp(a, "--method") == 0) {
-            o->nmethods = 0, o->compare = 0;
-            if (add_method(o, v))
-                return CLI_USAGE;
-        } else if (strcmp(a, "--compare") == 0) {
-            if (parse_method_list(o, v))
-                return CLI_USAGE;
-            o->compare = 1;
-        } else if (strcmp(a, "--scene") == 0) {
-            if (render_shape_parse(v, &o->shape) != 0)
-                return cli_usage_error(CMD, "--scene: expected sphere, blob or torus, got \"%s\"", v);
-        } else if (strcmp(a, "--grid") == 0) {
-            if (cli_parse_int(CMD, a, v, 4, 400, &l))
-                return CLI_USAGE;
-            o->grid = (int)l;
-        } else if (strcmp(a, "--size") == 0) {
-            if (parse_size(v, &o->width, &o->height))
-                return CLI_USAGE;
-        } else if (strcmp(a, "--spp") == 0) {
-            if (cli_parse_int(CMD, a, v, 1, 256, &l))
-                return CLI_USAGE;
-            int s = (int)lround(sqrt((double)l));
-            if ((long)s * s != l)
-                return cli_usage_error(CMD, "--spp: must be a square (1, 4, 9, 16, ...), got %ld", l);
-            o->ss = s;
-        } else if (strcmp(a, "--distance") == 0) {
-            if (cli_parse_float(CMD, a, v, &o->distance))
-                return CLI_USAGE;
-            if (!(o->distance > 1.5f) || !isfinite(o->distance))
-                return cli_usage_error(CMD, "--distance: must be > 1.5 (outside the object), got \"%s\"", v);
-        } else if (strcmp(a, "--light") == 0 || strcmp(a, "--view") == 0) {
-            char *e1, *e2 = NULL, *e3 = NULL;
-            double x = strtod(v, &e1), y = *e1 == ',' ? strtod(e1 + 1, &e2) : 0,
-                   z = (*e1 == ',' && *e2 == ',') ? strtod(e2 + 1, &e3) : 0;
-            if (*e1 != ',' || *e2 != ',' || *e3 || !isfinite(x) || !isfinite(y) || !isfinite(z))
-                return cli_usage_error(CMD, "%s: expected X,Y,Z, got \"%s\"", a, v);
-            if (a[2] == 'v') {
-                if (x == 0 && y == 0 && z == 0)
-                    return cli_usage_error(CMD, "--view: must not be 0,0,0");
-                o->view[0] = (float)x, o->view[1] = (float)y, o->view[2] = (float)z;
-                o->view_set = 1;
-            } else {
-                o->light[0] = (float)x, o->light[1] = (float)y, o->light[2] = (float)z;
-            }
-        } else if (strcmp(a, "--mesh") == 0) {
-            o->mesh_path = v;
-        } else if (strcmp(a, "--height-map") == 0) {
-            o->height_map = v;
-        } else if (strcmp(a, "--normal-map") == 0) {
-            o->normal_map = v;
-        } else if (strcmp(a, "--albedo") == 0) {
-            o->albedo_map = v;
-        } else if (strcmp(a, "--tex-amplitude") == 0 || strcmp(a, "--st-scale") == 0) {
-            float f;
-            if (cli_parse_float(CMD, a, v, &f))
-                return CLI_USAGE;
-            if (!(f > 0) || !isfinite(f))
-                return cli_usage_error(CMD, "%s: must be > 0, got \"%s\"", a, v);
-            *(a[2] == 't' ? &o->tex_amplitude : &o->st_scale) = f;
-        } else if (strcmp(a, "--tracer") == 0) {
-            if (strcmp(v, "auto") == 0)
-                o->tracer = TRACER_AUTO;
-            else if (strcmp(v, "bvh") == 0)
-                o->tracer = TRACER_BVH;
-            else if (strcmp(v, "embree") == 0)
-                o->tracer = TRACER_EMBREE;
-            else
-                return cli_usage_error(CMD, "--tracer: expected auto, bvh or embree, got \"%s\"", v);
-        } else if (strcmp(a, "--zoom") == 0) {
-            if (cli_parse_float(CMD, a, v, &o->zoom))
-                return CLI_USAGE;
-            if (!(o->zoom > 0) || !isfinite(o->zoom))
-                return cli_usage_error(CMD, "--zoom: must be > 0, got \"%s\"", v);
-            o->zoom_set = 1;
-        } else if (strcmp(a, "--closeup") == 0) {
-            if (cli_parse_int(CMD, a, v, 0, 16, &l))
-                return CLI_USAGE;
-            o->closeup = (int)l;
-        } else if (strcmp(a, "--heat-max") == 0) {
-            if (cli_parse_float(CMD, a, v, &o->heat_max))
-                return CLI_USAGE;
-            if (!(o->heat_max > 0) || !isfinite(o->heat_max))
-                return cli_usage_error(CMD, "--heat-max: must be > 0, got \"%s\"", v);
-        } else if (strcmp(a, "--threads") == 0) {
-            if (cli_parse_int(CMD, a, v, 0, 1024, &l))
-                return CLI_USAGE;
-            o->threads = (int)l;
-        } else if (strcmp(a, "--output") == 0 || strcmp(a, "-o") == 0) {
-            o->output = v;
-        } else if (strcmp(a, "--fail-above") == 0) {
-            float deg;
-            if (cli_parse_float(CMD, a, v, &deg))
-                return CLI_USAGE;
-            if (!(deg >= 0))
-                return cli_usage_error(CMD, "--fail-above: must be >= 0, got \"%s\"", v);
-            render_cli.fail_above = deg;
-        } else {
-            return cli_usage_error(CMD, "unknown option \"%s\" (see bumpgrad render --help)", a);
-        }
-    }
-    if (!o->output)
-        return cli_usage_error(CMD, "--output FILE is required (.png or .exr)");
-    return 0;
-}
-
 int cmd_render(int argc, char **argv)
 {
-    render_opts o;
-    render_opts_default(&o);
-    int rc = parse_args(argc, argv, &o);
-    if (rc == -1)
-        return CLI_OK;
+    render_args a;
+    preset_asked = find_preset(argc, argv);
+    int rc = cli_args_parse(&cli_spec_render, argc, argv, &a, NULL, NULL);
     if (rc)
-        return rc;
+        return rc == CLI_HELP ? CLI_OK : rc;
+    render_opts o = a.o;
+    if (!o.output)
+        return cli_usage_error(CMD, "--output FILE is required (.png or .exr)");
     bgt_err err;
     bg_status s = bgt_height_open(&o.h, &err);
     if (s != BG_OK)
@@ -396,7 +426,7 @@ int cmd_render(int argc, char **argv)
     bgt_height_close(&o.h);
     if (s != BG_OK && r.out_width == 0)
         return cli_report(CMD, s, &err);
-    if (render_cli.json) {
+    if (a.json) {
         print_json(&o, &r, (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
         goto verdict;
     }
@@ -432,13 +462,13 @@ verdict:
      * run still fails. */
     if (s != BG_OK)
         return cli_report(CMD, s, &err);
-    if (render_cli.fail_above >= 0)
+    if (a.fail_above >= 0)
         for (int m = 0; m < r.nmethods; m++)
-            if (r.stats[m].mean_deg > render_cli.fail_above) {
+            if (r.stats[m].mean_deg > a.fail_above) {
                 fflush(stdout);
                 fprintf(stderr, "bumpgrad render: FAIL: %s mean angle %.4f deg > --fail-above %g\n",
                         render_method_name(r.methods[m]), r.stats[m].mean_deg,
-                        (double)render_cli.fail_above);
+                        (double)a.fail_above);
                 return 3;
             }
     return CLI_OK;

@@ -2,9 +2,7 @@
 /* The height-function options shared by every command that bumps a surface,
  * as one table fragment (cli_height_opts, see args.h), parsed into a
  * bgt_height so each command evaluates exactly what the library's fused
- * kernel evaluates: h(p) = A F(f p), grad h = (A f) F'(f p).
- * cli_height_option / cli_height_help serve the commands still parsed by
- * hand (render, mesh) from the same table. */
+ * kernel evaluates: h(p) = A F(f p), grad h = (A f) F'(f p). */
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,60 +111,6 @@ const cli_opt cli_height_opts[] = {
 };
 #undef HO
 const char cli_height_heading[] = "Height function h(p) = A * F(f * p):";
-
-/* ---- for the commands still parsed by hand (render, mesh) ---- */
-
-static const cli_spec height_spec = {.name = "height", .opts = cli_height_opts};
-
-int cli_height_option(const char *cmd, bgt_height *h, int argc, char **argv, int *i)
-{
-    const char *o = argv[*i];
-    if (o[0] != '-' || o[1] != '-')
-        return 0;
-    /* Find it through the parser on a two- or one-word argv. */
-    const char *name = o + 2;
-    const char *eq = strchr(name, '=');
-    size_t len = eq ? (size_t)(eq - name) : strlen(name);
-    const cli_opt *t = NULL;
-    /* flatten the one level of INCLUDE */
-    for (const cli_opt *p = cli_height_opts; p->kind != CLI_KIND_END && !t; p++) {
-        if (p->kind == CLI_KIND_INCLUDE) {
-            for (const cli_opt *q = p->sub; q->kind != CLI_KIND_END; q++)
-                if (strlen(q->name) == len && strncmp(q->name, name, len) == 0)
-                    t = q;
-        } else if (strlen(p->name) == len && strncmp(p->name, name, len) == 0) {
-            t = p;
-        }
-    }
-    if (!t)
-        return 0;
-    char *sub_argv[3] = {(char *)cmd, argv[*i], NULL};
-    int sub_argc = 2;
-    if (!eq) {
-        if (*i + 1 >= argc)
-            return cli_usage_error(cmd, "%s needs a value", o);
-        sub_argv[2] = argv[*i + 1];
-        sub_argc = 3;
-    }
-    cli_spec spec = height_spec;
-    spec.name = cmd;
-    /* No defaults function: the parse writes into *h as it is. */
-    int rc = cli_args_parse(&spec, sub_argc, sub_argv, h, NULL, NULL);
-    if (rc)
-        return CLI_USAGE;
-    *i += sub_argc - 2;
-    return 1;
-}
-
-void cli_height_help(FILE *fp)
-{
-    /* The same generated block as the converted commands show. */
-    static const cli_opt wrapped[] = {CLI_OPT_INCLUDE(0, cli_height_opts, cli_height_heading),
-                                      CLI_OPT_END};
-    bgt_height d;
-    bgt_height_init(&d);
-    cli_args_help_opts(fp, wrapped, &d);
-}
 
 void cli_json_height(cli_json *j, const char *key, const bgt_height *h)
 {

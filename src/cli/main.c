@@ -12,9 +12,6 @@
  * src/cli/meson.build (cli_tool_sources if it needs the I/O shim), and add one
  * line in the matching block here. */
 static const char *const bench_own[] = {"--isa", NULL};
-#if BG_HAVE_TOOLS
-static const char *const mesh_own[] = {"--quiet", NULL};
-#endif
 static const cli_command commands[] = {
     {"eval", "noise / fBm / turbulence value and gradient at points from a CSV table", cmd_eval,
      &cli_spec_eval, NULL},
@@ -35,9 +32,9 @@ static const cli_command commands[] = {
     {"heightmap", "image -> tangent-space normal map (seed method); normal map -> derivative map",
      cmd_heightmap, &cli_spec_heightmap, NULL},
     {"render", "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
-     cmd_render, NULL, NULL},
+     cmd_render, &cli_spec_render, NULL},
     {"mesh", "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a normal map",
-     cmd_mesh, NULL, mesh_own},
+     cmd_mesh, &cli_spec_mesh, NULL},
 #endif
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
@@ -197,13 +194,14 @@ static int owns(const cli_command *c, const char *arg)
     return 0;
 }
 
-/* The command's argv without the global options; for a command still parsed by
- * hand, "--name=value" becomes "--name" "value". Up to `--`, after which every
- * argument is left as it is. Returns the new argc; out has room for 2 * argc + 2. */
+/* The command's argv without the global options; for a command without an
+ * option table (today only bench, being converted), "--name=value" becomes
+ * "--name" "value". Up to `--`, after which every argument is left as it is.
+ * Returns the new argc; out has room for 2 * argc + 2. */
 static int command_argv(const cli_command *c, int argc, char **argv, char **out,
                         const char **isa, int *rc)
 {
-    int n = 0, done = 0, quiet_passed = 0;
+    int n = 0, done = 0;
     out[n++] = argv[0];
     for (int i = 1; i < argc; i++) {
         char *a = argv[i];
@@ -216,11 +214,7 @@ static int command_argv(const cli_command *c, int argc, char **argv, char **out,
             out[n++] = a;
             continue;
         }
-        if (owns(c, a)) {
-            quiet_passed |= strcmp(a, "--quiet") == 0;
-            if (strcmp(a, "--quiet") == 0)
-                cli_global.quiet = 1;
-        } else {
+        if (!owns(c, a)) {
             int g = global_option(argc, argv, &i, isa);
             if (g == CLI_USAGE) {
                 *rc = g;
@@ -238,9 +232,6 @@ static int command_argv(const cli_command *c, int argc, char **argv, char **out,
         }
         out[n++] = a;
     }
-    /* mesh's own --quiet, when -q was given instead */
-    if (cli_global.quiet && !quiet_passed && owns(c, "--quiet") && !done)
-        out[n++] = (char *)"--quiet";
     out[n] = NULL;
     return n;
 }

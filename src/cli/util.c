@@ -280,27 +280,6 @@ void cli_progress_end(cli_progress *p)
 static const char *const function_names[] = {"noise", "fbm", "turbulence"};
 static const char *const method_names[] = {"surfgrad", "additive", "additive-perlin"};
 
-int cli_parse_function(const char *cmd, const char *opt, const char *text, bg_function *out)
-{
-    for (int i = 0; i < 3; i++)
-        if (strcmp(text, function_names[i]) == 0) {
-            *out = (bg_function)i;
-            return 0;
-        }
-    return cli_usage_error(cmd, "%s: expected noise, fbm or turbulence, got \"%s\"", opt, text);
-}
-
-int cli_parse_method(const char *cmd, const char *opt, const char *text, bg_perturb_method *out)
-{
-    for (int i = 0; i < 3; i++)
-        if (strcmp(text, method_names[i]) == 0) {
-            *out = (bg_perturb_method)i;
-            return 0;
-        }
-    return cli_usage_error(cmd, "%s: expected surfgrad, additive or additive-perlin, got \"%s\"",
-                           opt, text);
-}
-
 const char *cli_function_name(bg_function f)
 {
     return (unsigned)f < 3 ? function_names[f] : "?";

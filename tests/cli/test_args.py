@@ -3,7 +3,7 @@
 --opt=value, `--`, global options anywhere, the messages, the generated help,
 completions and man pages, and --progress on a pipe.
 
-Usage: test_args.py BUMPGRAD_EXE {syntax|help|generated|progress|tools}
+Usage: test_args.py BUMPGRAD_EXE {syntax|csv|json|npy|help|generated|progress|tools|render_mesh}
 """
 import os
 import shutil
@@ -23,12 +23,12 @@ def check(cond, what):
     return cond
 
 
-def run(args, stdin=None, env_extra=None):
+def run(args, stdin=None, env_extra=None, cwd=None):
     env = dict(os.environ)
     env.pop("BUMPGRAD_ISA", None)
     env.update(env_extra or {})
     p = subprocess.run([EXE] + args, input=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       env=env, timeout=120)
+                       env=env, timeout=120, cwd=cwd)
     return p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
 
 
@@ -335,8 +335,128 @@ def npy():
         check(not os.path.exists(os.path.join(d, "x.npy")), "no output after bad .npy input")
 
 
+QUAD_OBJ = (b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+            b"vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
+
+
+def render_mesh():
+    """render and mesh on the table parser: --opt=value, `--`, short forms, the
+    generated help with its defaults, completions and man pages."""
+    with tempfile.TemporaryDirectory() as d:
+        a, b = os.path.join(d, "a.png"), os.path.join(d, "b.png")
+        rc1, o1, e1 = run(["render", "--size", "16x16", "--method", "additive", "--light",
+                           "-3,2,1", "--output", a])
+        rc2, o2, e2 = run(["render", "--size=16x16", "--method=additive", "--light=-3,2,1",
+                           "-o" + b])
+        check(rc1 == 0 and rc2 == 0 and o1.replace(a, "X") == o2.replace(b, "X") and
+              open(a, "rb").read() == open(b, "rb").read(),
+              "render --opt=value equals --opt value: %r %r %r %r" % (o1, o2, e1, e2))
+        rc, o, e = run(["render", "--size=16x16", "-o", a, "--", "--sweep"])
+        check(rc == 2 and 'unexpected argument "--sweep"' in e, "render: -- ends options: %r" % e)
+        rc, o, e = run(["render", "--size=16x16", "-o", a, "--scene=cube"])
+        check(rc == 2 and '--scene: expected sphere, blob or torus, got "cube"' in e,
+              "render --scene=cube: %r" % e)
+        rc, o, e = run(["render", "--size", "16x16", "--zoom=0", "-o", a])
+        check(rc == 2 and '--zoom: must be > 0, got "0"' in e, "render --zoom=0: %r" % e)
+        rc, o, e = run(["render", "--size=16x16"])
+        check(rc == 2 and "--output FILE is required" in e, "render without --output: %r" % e)
+        # The preset is applied first wherever it stands; options override it.
+        rc1, o1, _ = run(["render", "--size=16x16", "--preset=fig2", "-o", a])
+        rc2, o2, _ = run(["render", "--preset", "fig2", "--size", "16x16", "-o", a])
+        rc3, o3, _ = run(["render", "--preset", "fig2", "--size", "16x16", "--amplitude=0.1",
+                          "-o", a])
+        check(rc1 == 0 and o1 == o2 and "amplitude=0.4" in o1 and "amplitude=0.1" in o3,
+              "render --preset anywhere, options override it: %r %r" % (o1, o3))
+
+        # An input whose name starts with "-", given after `--` (relative to d).
+        quad = "-quad.obj"
+        with open(os.path.join(d, quad), "wb") as f:
+            f.write(QUAD_OBJ)
+        p1, p2 = os.path.join(d, "1.ply"), os.path.join(d, "2.ply")
+
+        def summary(text, path):  # the timings differ from run to run
+            return [ln.replace(path, "X") for ln in text.splitlines() if not ln.startswith("time:")]
+        rc1, o1, e1 = run(["mesh", "--compare", "--amplitude", "0.5", "--join", "never", "--",
+                           quad, p1], cwd=d)
+        rc2, o2, e2 = run(["mesh", "--compare", "--amplitude=0.5", "--join=never", "--", quad,
+                           p2], cwd=d)
+        check(rc1 == 0 and rc2 == 0 and summary(o1, p1) == summary(o2, p2) and
+              "6 vertices" in o1 and open(p1, "rb").read() == open(p2, "rb").read(),
+              "mesh --opt=value and -- before an input named -quad.obj: %r %r" % (o1, e1))
+        rc, o, e = run(["mesh", quad, p1], cwd=d)
+        check(rc == 2 and 'unknown option "-quad.obj"' in e,
+              "mesh without --: -quad.obj is an option: %r" % e)
+        quad = os.path.join(d, quad)
+        n1 = os.path.join(d, "n.png")
+        rc, o, e = run(["mesh", "--bake-normal-map=" + n1, "--size=8x4", "--normal-map-y=-y",
+                        "--padding=1", "--", quad])
+        check(rc == 0 and "bake: %s 8x4 tangent space" % n1 in o and "green -y" in o,
+              "mesh bake options as --opt=value: %r %r" % (o, e))
+        rc, o, e = run(["-q", "mesh", "--", quad, p1])
+        rc2, o2, e2 = run(["mesh", "--quiet", "--", quad, p1])
+        check(rc == 0 and rc2 == 0 and o == "" and o2 == "" and e == "" and e2 == "",
+              "mesh -q and --quiet print nothing: %r %r" % (o, o2))
+        rc, o, e = run(["mesh", "--join=sometimes", "--", quad, p1])
+        check(rc == 2 and '--join: expected auto, always or never, got "sometimes"' in e,
+              "mesh --join=sometimes: %r" % e)
+        rc, o, e = run(["mesh", "--", quad, p1, p2])
+        check(rc == 2 and "unexpected argument" in e, "mesh: a third positional: %r" % e)
+
+    for c, shorts, defaults in (("render", ["-o, --output"], ["(default 384x384)", "(default 48)",
+                                                              "(default surfgrad)",
+                                                              "(default -5,4,3)",
+                                                              "(default 0.06)"]),
+                                ("mesh", [], ["(default 4)", "(default tangent)",
+                                              "(default mikktspace)", "(default +y)",
+                                              "(default 0.1)"])):
+        rc, out, err = run([c, "--help"])
+        check(rc == 0 and out.startswith("Usage: bumpgrad %s [options] " % c), "%s --help: usage" % c)
+        check("usage:" not in out, "%s --help: one usage style" % c)
+        for s in shorts:
+            check(s in out, "%s --help lists the short form %s" % (c, s))
+        for dflt in defaults:
+            check(dflt in out, "%s --help shows %s" % (c, dflt))
+        amp = [ln for ln in out.splitlines() if ln.strip().startswith("--amplitude")]
+        check(len(amp) == 1, "%s --help: one --amplitude line: %r" % (c, amp))
+        rc2, out2, _ = run(["help", c])
+        check(rc2 == 0 and out2 == out, "help %s equals %s --help" % (c, c))
+        rc, man, err = run(["man", c])
+        check(rc == 0 and man.startswith(".TH BUMPGRAD-%s 1" % c), "man %s: %r" % (c, err))
+        if shutil.which("groff"):
+            p = subprocess.run(["groff", "-man", "-Tutf8", "-ww", "-z"], input=man,
+                               capture_output=True, text=True)
+            check(p.returncode == 0 and p.stderr == "", "groff -ww on man %s: %r" % (c, p.stderr))
+
+    rc, bash, err = run(["completion", "bash"])
+    for c, opts in (("render", ["--tex-amplitude", "--fail-above", "--preset", "-o"]),
+                    ("mesh", ["--bake-normal-map", "--normal-map-y", "--recompute-normals"])):
+        block = bash.split("\n    %s)\n" % c)
+        check(len(block) == 2, "bash completion has a %s entry" % c)
+        if len(block) == 2:
+            section = block[1].split("fi;;")[0]
+            words = section.split('compgen -W "$globals --help')[-1].split('"')[0].split()
+            for o in opts + ["--amplitude", "--height-grid"]:
+                check(o in words, "bash completion of %s offers %s: %r" % (c, o, words))
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "bumpgrad")
+        with open(path, "w") as f:
+            f.write(bash)
+        for words, want in ((["render", "--scene", "''"], ["sphere", "blob", "torus"]),
+                            (["render", "--preset", "''"], ["fig1", "fig2", "fig3", "fig4"]),
+                            (["mesh", "--join", "''"], ["auto", "always", "never"]),
+                            (["mesh", "--bake-depth", "''"], ["8", "16", "half", "float"])):
+            script = ("source %s; COMP_WORDS=(bumpgrad %s); COMP_CWORD=%d; _bumpgrad; "
+                      "echo \"${COMPREPLY[@]}\"" % (path, " ".join(words), len(words)))
+            p = subprocess.run(["bash", "-c", script], capture_output=True, text=True)
+            check(p.stdout.split() == want, "bash completes %s: %r" % (words[:2], p.stdout))
+    rc, zsh, err = run(["completion", "zsh"])
+    for c, o in (("render", "--heat-max="), ("mesh", "--bake-depth=")):
+        check(("\n    %s)\n" % c) in zsh and o in zsh.split("\n    %s)\n" % c)[-1].split(";;")[0],
+              "zsh completion of %s offers %s" % (c, o))
+
+
 {"syntax": syntax, "csv": csv, "json": json_, "npy": npy, "help": help_, "generated": generated, "progress": progress,
- "tools": tools}[sys.argv[2]]()
+ "tools": tools, "render_mesh": render_mesh}[sys.argv[2]]()
 if FAILURES:
     print("%d failure(s)" % len(FAILURES))
     sys.exit(1)
