@@ -128,32 +128,45 @@ static int check_required(const char *cmd, const cli_opt *t, size_t base, const 
     return 0;
 }
 
-int cli_args_parse(const cli_spec *spec, int argc, char **argv, void *args, const char **pos,
-                   int *npos)
+static int add_positional(const cli_spec *spec, const char **pos, int *n, const char *a)
 {
     const char *cmd = spec->name;
-    int n = 0, opts_done = 0;
-    if (spec->defaults)
-        spec->defaults(args);
+    if (*n >= spec->max_positional) {
+        if (spec->max_positional == 0)
+            return cli_usage_error(cmd, "unexpected argument \"%s\" (see bumpgrad %s --help)", a,
+                                   cmd);
+        return cli_usage_error(cmd, "unexpected argument \"%s\": expected at most %d "
+                                    "(see bumpgrad %s --help)", a, spec->max_positional, cmd);
+    }
+    pos[(*n)++] = a;
+    return 0;
+}
+
+/* One pass over argv. The pre-pass (`first`) sets only the CLI_FIRST options
+ * and skips everything else with its value; the main pass reports every
+ * error and skips the CLI_FIRST options. */
+static int parse_pass(const cli_spec *spec, int argc, char **argv, void *args, const char **pos,
+                      int *npos, int first)
+{
+    const char *cmd = spec->name;
+    int n = 0, rc;
     for (int i = 1; i < argc; i++) {
         char *a = argv[i];
-        if (opts_done || a[0] != '-' || a[1] == '\0') {
-            if (n >= spec->max_positional) {
-                if (spec->max_positional == 0)
-                    return cli_usage_error(cmd, "unexpected argument \"%s\" (see bumpgrad %s --help)",
-                                           a, cmd);
-                return cli_usage_error(cmd, "unexpected argument \"%s\": expected at most %d "
-                                            "(see bumpgrad %s --help)", a, spec->max_positional,
-                                       cmd);
-            }
-            pos[n++] = a;
-            continue;
-        }
         if (strcmp(a, "--") == 0) {
-            opts_done = 1;
+            /* Everything after it is positional. */
+            while (!first && ++i < argc)
+                if ((rc = add_positional(spec, pos, &n, argv[i])) != 0)
+                    return rc;
+            break;
+        }
+        if (a[0] != '-' || a[1] == '\0') {
+            if (!first && (rc = add_positional(spec, pos, &n, a)) != 0)
+                return rc;
             continue;
         }
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            if (first)
+                continue;
             cli_args_help(spec, stdout);
             return CLI_HELP;
         }
@@ -174,6 +187,8 @@ int cli_args_parse(const cli_spec *spec, int argc, char **argv, void *args, cons
                 value = a + 2;
         }
         if (!ok) {
+            if (first)
+                continue;
             char shown[80];
             const char *eq = a[1] == '-' ? strchr(a, '=') : NULL;
             size_t len = eq ? (size_t)(eq - a) : strlen(a);
@@ -184,25 +199,56 @@ int cli_args_parse(const cli_spec *spec, int argc, char **argv, void *args, cons
             return cli_usage_error(cmd, "unknown option \"%s\" (see bumpgrad %s --help)", shown,
                                    cmd);
         }
+        /* Whether this pass sets the option (the other one only skips it). */
+        int here = !(f.opt->flags & CLI_FIRST) == !first;
         snprintf(optname, sizeof optname, "--%s", f.opt->name);
         if (f.opt->kind == CLI_KIND_FLAG) {
-            if (value)
+            if (here && value)
                 return cli_usage_error(cmd, "%s takes no value, got \"%s\"", optname, a);
-            *(int *)field_at(args, &f) = 1;
+            if (here)
+                *(int *)field_at(args, &f) = 1;
             continue;
         }
         if (!value) {
             if (i + 1 >= argc)
-                return cli_usage_error(cmd, "%s needs a value", a);
+                return first ? 0 : cli_usage_error(cmd, "%s needs a value", a);
             value = argv[++i];
         }
-        int rc = set_value(cmd, f.opt, optname, value, field_at(args, &f));
-        if (rc)
+        if (here && (rc = set_value(cmd, f.opt, optname, value, field_at(args, &f))) != 0)
             return rc;
     }
     if (npos)
         *npos = n;
-    return check_required(cmd, spec->opts, 0, args);
+    return 0;
+}
+
+int cli_args_parse(const cli_spec *spec, int argc, char **argv, void *args, const char **pos,
+                   int *npos)
+{
+    if (spec->defaults)
+        spec->defaults(args);
+    int rc = parse_pass(spec, argc, argv, args, pos, npos, 1);
+    if (!rc)
+        rc = parse_pass(spec, argc, argv, args, pos, npos, 0);
+    return rc ? rc : check_required(spec->name, spec->opts, 0, args);
+}
+
+int cli_run_command(const cli_spec *spec, int argc, char **argv)
+{
+    const char *pos[CLI_MAX_POSITIONAL] = {NULL};
+    int npos = 0;
+    void *args = calloc(1, spec->args_size);
+    if (!args)
+        return cli_fail(spec->name, "out of memory");
+    int rc = spec->max_positional > CLI_MAX_POSITIONAL
+                 ? cli_fail(spec->name, "too many positional arguments in the table")
+                 : cli_args_parse(spec, argc, argv, args, pos, &npos);
+    if (rc == 0)
+        rc = spec->run(args, pos, npos);
+    else if (rc == CLI_HELP)
+        rc = CLI_OK;
+    free(args);
+    return rc;
 }
 
 /* ---- --help -------------------------------------------------------------- */
@@ -223,20 +269,17 @@ static int default_text(const cli_opt *o, const void *field, char *buf, size_t l
         return 1;
     }
     case CLI_KIND_INT:
-        if ((o->flags & CLI_ZERO_NONE) && *(const int *)field == 0)
-            return 0;
-        snprintf(buf, len, "%d", *(const int *)field);
-        return 1;
     case CLI_KIND_FLOAT:
-        if ((o->flags & CLI_ZERO_NONE) && *(const float *)field == 0)
+    case CLI_KIND_DOUBLE: {
+        /* Every int and float is exact in a double. */
+        double v = o->kind == CLI_KIND_INT     ? *(const int *)field
+                   : o->kind == CLI_KIND_FLOAT ? (double)*(const float *)field
+                                               : *(const double *)field;
+        if ((o->flags & CLI_ZERO_NONE) && v == 0)
             return 0;
-        snprintf(buf, len, "%g", (double)*(const float *)field);
+        snprintf(buf, len, o->kind == CLI_KIND_INT ? "%.0f" : "%g", v);
         return 1;
-    case CLI_KIND_DOUBLE:
-        if ((o->flags & CLI_ZERO_NONE) && *(const double *)field == 0)
-            return 0;
-        snprintf(buf, len, "%g", *(const double *)field);
-        return 1;
+    }
     case CLI_KIND_CHOICE:
         for (int k = 0; o->choices[k]; k++)
             if (choice_value(o, k) == *(const int *)field) {
@@ -494,6 +537,38 @@ static void bash_words(FILE *fp, const cli_opt *o, void *ctx)
         fprintf(fp, " -%c", o->short_name);
 }
 
+/* What completes an option's value, in each shell's syntax. */
+typedef struct shell_values {
+    const char *choices_open, *choices_close; /* around the space-separated choices */
+    const char *dir, *file;
+    const char *other_open, *other_close; /* around the metavar (NULL: no metavar) */
+} shell_values;
+
+static const shell_values bash_syntax = {
+    " COMPREPLY=($(compgen -W \"", "\" -- \"$cur\")); return;;\n",
+    " COMPREPLY=($(compgen -d -- \"$cur\")); return;;\n",
+    " COMPREPLY=($(compgen -f -- \"$cur\")); return;;\n", " return;;\n", NULL};
+static const shell_values zsh_syntax = {":value:(", ")", ":directory:_files -/", ":file:_files",
+                                        ":", ": "};
+
+static void put_values(FILE *fp, const cli_opt *o, const shell_values *sh)
+{
+    if (o->choices) {
+        fputs(sh->choices_open, fp);
+        for (int k = 0; o->choices[k]; k++)
+            fprintf(fp, "%s%s", k ? " " : "", o->choices[k]);
+        fputs(sh->choices_close, fp);
+    } else if (o->flags & CLI_DIR) {
+        fputs(sh->dir, fp);
+    } else if (o->flags & CLI_FILE) {
+        fputs(sh->file, fp);
+    } else if (o->kind != CLI_KIND_FLAG) {
+        fputs(sh->other_open, fp);
+        if (sh->other_close)
+            fprintf(fp, "%s%s", o->metavar ? o->metavar : "value", sh->other_close);
+    }
+}
+
 static void bash_values(FILE *fp, const cli_opt *o, void *ctx)
 {
     (void)ctx;
@@ -503,18 +578,7 @@ static void bash_values(FILE *fp, const cli_opt *o, void *ctx)
     if (o->short_name)
         fprintf(fp, "|-%c", o->short_name);
     fputs(")", fp);
-    if (o->kind == CLI_KIND_CHOICE) {
-        fputs(" COMPREPLY=($(compgen -W \"", fp);
-        for (int k = 0; o->choices[k]; k++)
-            fprintf(fp, "%s%s", k ? " " : "", o->choices[k]);
-        fputs("\" -- \"$cur\")); return;;\n", fp);
-    } else if (o->flags & CLI_DIR) {
-        fputs(" COMPREPLY=($(compgen -d -- \"$cur\")); return;;\n", fp);
-    } else if (o->flags & CLI_FILE) {
-        fputs(" COMPREPLY=($(compgen -f -- \"$cur\")); return;;\n", fp);
-    } else {
-        fputs(" return;;\n", fp);
-    }
+    put_values(fp, o, &bash_syntax);
 }
 
 void cli_args_completion_bash(FILE *fp, const cli_spec *const *specs, size_t nspecs,
@@ -596,18 +660,7 @@ static void zsh_spec(FILE *fp, const cli_opt *o, void *ctx)
     fputs("[", fp);
     zsh_escape(fp, first);
     fputs("]", fp);
-    if (o->kind == CLI_KIND_CHOICE) {
-        fputs(":value:(", fp);
-        for (int k = 0; o->choices[k]; k++)
-            fprintf(fp, "%s%s", k ? " " : "", o->choices[k]);
-        fputs(")", fp);
-    } else if (o->flags & CLI_DIR) {
-        fputs(":directory:_files -/", fp);
-    } else if (o->flags & CLI_FILE) {
-        fputs(":file:_files", fp);
-    } else if (o->kind != CLI_KIND_FLAG) {
-        fprintf(fp, ":%s: ", o->metavar ? o->metavar : "value");
-    }
+    put_values(fp, o, &zsh_syntax);
     fputs("' \\\n", fp);
 }
 

@@ -24,13 +24,14 @@
  *      (offsetof(CMD_args, field)), ending with CLI_OPT_END; include the
  *      shared height block with CLI_OPT_INCLUDE(offsetof(CMD_args, height),
  *      cli_height_opts, cli_height_heading).
- *   3. Write `const cli_spec cli_spec_CMD = {...}` (declared in cli.h) and, in
- *      cmd_CMD(), call cli_args_parse(&cli_spec_CMD, argc, argv, &a, pos, &npos):
- *      CLI_HELP means the help was printed (return CLI_OK).
- *   4. Give the command's line in main.c's table the spec (its --help, the
- *      completions and the man page then come from it) and drop the command
- *      from main.c's legacy list (the --opt=value rewriting for unconverted
- *      commands, and the options they own such as bench --isa).
+ *   3. Write `static int CMD_run(void *args, const char *const *pos, int npos)`
+ *      (the args are parsed: check what the table cannot, call one tools
+ *      function, print) and `const cli_spec cli_spec_CMD = {..., .run =
+ *      CMD_run}` (declared in cli.h).
+ *   4. Give the command's line in main.c's table the spec (main.c then runs
+ *      it through cli_run_command, and its --help, the completions and the
+ *      man page come from it) and drop its cmd_CMD and `own` options (the
+ *      --opt=value rewriting is only for commands without a spec).
  */
 #ifndef BUMPGRAD_CLI_ARGS_H
 #define BUMPGRAD_CLI_ARGS_H
@@ -58,7 +59,9 @@ enum {
     CLI_NO_DEFAULT = 1u << 3, /* do not print "(default ...)" */
     CLI_FILE = 1u << 4,      /* completion: a file name */
     CLI_DIR = 1u << 5,       /* completion: a directory */
-    CLI_ZERO_NONE = 1u << 6  /* no "(default 0)": 0 means what the help says */
+    CLI_ZERO_NONE = 1u << 6, /* no "(default 0)": 0 means what the help says */
+    CLI_FIRST = 1u << 7      /* set before every other option wherever it stands
+                              * (render --preset: the other options override it) */
 };
 
 typedef struct cli_opt {
@@ -96,7 +99,12 @@ typedef struct cli_spec {
     void (*defaults)(void *args); /* sets every default; called first by cli_args_parse */
     int max_positional;  /* positional arguments accepted */
     const char *positional_ext; /* completion of positionals: extensions, or NULL for files */
+    /* The command once parsed: `args` filled, pos[0..npos-1] its positionals.
+     * Calls one tools function, prints, returns the exit code. */
+    int (*run)(void *args, const char *const *pos, int npos);
 } cli_spec;
+
+enum { CLI_MAX_POSITIONAL = 4 };
 
 /* Returned by cli_args_parse after printing --help on stdout. */
 enum { CLI_HELP = -1 };
@@ -107,6 +115,11 @@ enum { CLI_HELP = -1 };
  * CLI_USAGE after printing the error. */
 int cli_args_parse(const cli_spec *spec, int argc, char **argv, void *args, const char **pos,
                    int *npos);
+
+/* The whole command: parse argv into a zeroed args struct of the spec (the
+ * help, usage errors), then spec->run. The `run` of main.c's table for
+ * every command with a spec. Returns the exit code. */
+int cli_run_command(const cli_spec *spec, int argc, char **argv);
 
 /* The generated --help of a command. */
 void cli_args_help(const cli_spec *spec, FILE *fp);
@@ -131,6 +144,14 @@ extern const cli_opt cli_fractal_opts[];
  * --height-grid, offsets relative to a bgt_height. */
 extern const cli_opt cli_height_opts[];
 extern const char cli_height_heading[];
+/* --input/-i and --output/-o of the table commands (eval, perturb), both
+ * required, relative to a cli_table_io. */
+typedef struct cli_table_io {
+    const char *input, *output;
+} cli_table_io;
+extern const cli_opt cli_table_io_opts[];
+/* --threads N (0 = all cores, up to 1024), relative to an int. */
+extern const cli_opt cli_threads_opts[];
 /* Choice names shared by several commands. */
 extern const char *const cli_function_choices[];
 extern const int cli_function_values[];

@@ -13,6 +13,7 @@
 #include "common/safe_file.h"
 #include "common/tool.h"
 #include "height_source.h"
+#include "points/points.h"
 
 /* Exit codes: 0 success, 1 runtime failure (I/O error, out of memory),
  * 2 bad input or usage (the message names the argument, file, line, column). */
@@ -21,27 +22,21 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 struct cli_spec;
 typedef struct cli_command {
     const char *name;
+    /* A command with an option table (args.h) has only `spec` (its summary
+     * and its run are there; main.c calls cli_run_command); a command still
+     * parsed by hand (bench: its --opt=value is split by main.c) has a
+     * summary and a run instead. */
     const char *summary;
     int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
-    /* The option table (args.h) of a converted command; NULL for a command
-     * still parsed by hand (bench: its --opt=value is split by main.c). */
     const struct cli_spec *spec;
     /* Unconverted commands: options main.c must leave to them although they
      * look global (bench --isa). NULL-terminated or NULL. */
     const char *const *own;
 } cli_command;
 
-/* Subcommands (one file each: cmd_<name>.c), listed in main.c. */
-int cmd_eval(int argc, char **argv);
-int cmd_perturb(int argc, char **argv);
-int cmd_render(int argc, char **argv);
-int cmd_mesh(int argc, char **argv);
-int cmd_accuracy(int argc, char **argv);
-int cmd_stability(int argc, char **argv);
+/* Subcommands (one file each: cmd_<name>.c), listed in main.c: the one still
+ * parsed by hand, and the specs of the commands on the table parser (args.h). */
 int cmd_bench(int argc, char **argv);
-int cmd_volume(int argc, char **argv);
-int cmd_heightmap(int argc, char **argv);
-/* Specs of the commands on the table parser (args.h). */
 extern const struct cli_spec cli_spec_eval, cli_spec_perturb, cli_spec_accuracy,
     cli_spec_stability, cli_spec_volume, cli_spec_heightmap, cli_spec_render, cli_spec_mesh;
 
@@ -85,6 +80,9 @@ int cli_verbose(void);
 void cli_warn(const char *cmd, const char *fmt, ...);
 /* "bumpgrad <cmd>: ..." on stderr, only with -v. */
 void cli_info(const char *cmd, const char *fmt, ...);
+/* The studies' (accuracy, stability) gnuplot messages: "gnuplot: TEXT" on
+ * stderr (a bgt_study_report callback). */
+void cli_study_gnuplot(void *ctx, const char *text);
 /* Monotonic seconds. */
 double cli_now(void);
 
@@ -103,6 +101,14 @@ void cli_progress_update(cli_progress *p, size_t done);
 void cli_progress_end(cli_progress *p);
 /* A tools progress callback that drives `p` (begin/update/end). */
 bgt_progress cli_progress_sink(cli_progress *p);
+/* The progress of the table commands (eval, perturb): the line counts rows
+ * from the tool's statistics. Initialize in place (sink points to prog). */
+typedef struct cli_points_progress {
+    cli_progress prog;
+    bgt_progress sink;
+    bgt_points_stats stats;
+} cli_points_progress;
+void cli_points_progress_init(cli_points_progress *p);
 
 /* ---- height-function options shared by perturb, render, mesh, volume,
  * heightmap: the table fragment cli_height_opts (args.h, heightopt.c). ---- */

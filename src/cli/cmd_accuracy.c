@@ -44,6 +44,8 @@ static const cli_opt accuracy_opts[] = {
 };
 #undef A
 
+static int run_accuracy(void *args, const char *const *pos, int npos);
+
 const cli_spec cli_spec_accuracy = {
     .name = "accuracy",
     .summary = "speed against accuracy of every gradient method: CSV and a log-log chart",
@@ -68,6 +70,7 @@ const cli_spec cli_spec_accuracy = {
     .opts = accuracy_opts,
     .args_size = sizeof(accuracy_args),
     .defaults = accuracy_defaults,
+    .run = run_accuracy,
 };
 
 /* The table on stdout, printed when the study reports accuracy.csv in place
@@ -98,18 +101,10 @@ static void on_wrote(void *ctx, const char *path)
     printf("wrote %s\n", path);
 }
 
-static void on_gnuplot(void *ctx, const char *text)
+static int run_accuracy(void *args, const char *const *pos, int npos)
 {
-    (void)ctx;
-    fprintf(stderr, "gnuplot: %s", text);
-}
-
-int cmd_accuracy(int argc, char **argv)
-{
-    accuracy_args a;
-    int r = cli_args_parse(&cli_spec_accuracy, argc, argv, &a, NULL, NULL);
-    if (r)
-        return r == CLI_HELP ? CLI_OK : r;
+    (void)pos, (void)npos;
+    accuracy_args a = *(accuracy_args *)args;
     if (a.height.grid_path)
         return cli_usage_error(CMD, "--height-grid is not supported here: the study needs an analytic reference");
 
@@ -117,7 +112,7 @@ int cmd_accuracy(int argc, char **argv)
     acc_print pr = {&res, 0};
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    bgt_study_report rep = {on_wrote, on_gnuplot, &pr};
+    bgt_study_report rep = {on_wrote, cli_study_gnuplot, &pr};
     bgt_accuracy_opts o = {.out_dir = a.out_dir, .samples = (size_t)a.samples & ~(size_t)3,
                            .runs = a.runs, .chart = !a.no_chart, .height = a.height.h,
                            .progress = &sink, .report = &rep};

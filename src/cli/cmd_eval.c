@@ -12,7 +12,7 @@
 #include "points/points.h"
 
 typedef struct eval_args {
-    const char *input, *output;
+    cli_table_io io;
     bg_fractal fractal;
     int central, dbl, threads, allow_nonfinite, json;
     double step;
@@ -32,13 +32,7 @@ static const char *const precision_choices[] = {"float", "double", NULL};
 
 #define A(m) offsetof(eval_args, m)
 static const cli_opt eval_opts[] = {
-    {.name = "input", .short_name = 'i', .kind = CLI_KIND_STRING, .offset = A(input),
-     .metavar = "FILE", .help = "input table, \"-\" for standard input", .flags = CLI_REQUIRED | CLI_FILE,
-     .complete_ext = "csv"},
-    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = A(output),
-     .metavar = "FILE", .help = "output table, \"-\" for standard output; written to a temporary "
-                                "file and renamed on success",
-     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    CLI_OPT_INCLUDE(A(io), cli_table_io_opts, NULL),
     CLI_OPT_INCLUDE(A(fractal), cli_fractal_opts, NULL),
     {.name = "gradient", .kind = CLI_KIND_CHOICE, .offset = A(central), .metavar = "MODE",
      .help = "analytic gradient or central differences", .choices = gradient_choices},
@@ -48,8 +42,7 @@ static const cli_opt eval_opts[] = {
      .help = "float (SIMD batch kernels) or double (scalar; double noise equals Perlin's "
              "reference)",
      .choices = precision_choices},
-    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
-     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024},
+    CLI_OPT_INCLUDE(A(threads), cli_threads_opts, NULL),
     {.name = "allow-nonfinite", .kind = CLI_KIND_FLAG, .offset = A(allow_nonfinite),
      .help = "accept nan/inf coordinates (their results are NaN); without it they are an error"},
     {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
@@ -58,6 +51,8 @@ static const cli_opt eval_opts[] = {
     CLI_OPT_END,
 };
 #undef A
+
+static int run_eval(void *args, const char *const *pos, int npos);
 
 const cli_spec cli_spec_eval = {
     .name = "eval",
@@ -92,53 +87,45 @@ const cli_spec cli_spec_eval = {
             "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n",
     .args_size = sizeof(eval_args),
     .defaults = eval_defaults,
+    .run = run_eval,
 };
 
-int cmd_eval(int argc, char **argv)
+static int run_eval(void *args, const char *const *pos, int npos)
 {
+    (void)pos, (void)npos;
     const char *cmd = "eval";
-    eval_args a;
-    int rc = cli_args_parse(&cli_spec_eval, argc, argv, &a, NULL, NULL);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
+    eval_args a = *(eval_args *)args;
     if (bg_fractal_validate(&a.fractal) != BG_OK)
         return cli_usage_error(cmd, "invalid fractal parameters");
     if (!a.dbl && !((float)a.step > 0))
         return cli_usage_error(cmd, "--step %g is zero in float precision", a.step);
-    if (a.json && strcmp(a.output, "-") == 0)
+    if (a.json && strcmp(a.io.output, "-") == 0)
         return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
     if (a.threads == 0)
         a.threads = bgt_threads_default();
 
-    cli_progress prog;
-    bgt_progress sink = cli_progress_sink(&prog);
-    bgt_points_stats stats = {0};
-    prog.rows = &stats.rows;
-    bgt_eval_opts opts = {.input = a.input, .output = a.output, .fractal = a.fractal,
+    cli_points_progress pp;
+    cli_points_progress_init(&pp);
+    bgt_points_stats *const stats = &pp.stats;
+    bgt_eval_opts opts = {.input = a.io.input, .output = a.io.output, .fractal = a.fractal,
                           .central = a.central, .dbl = a.dbl, .step = a.step,
                           .threads = a.threads, .allow_nonfinite = a.allow_nonfinite,
-                          .progress = &sink, .stats = &stats};
+                          .progress = &pp.sink, .stats = stats};
     bgt_err err;
     double t0 = cli_now();
     bg_status st = bgt_eval_run(&opts, &err);
     double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
-    cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats.rows, dt,
+    cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats->rows, dt,
              bg_isa_name(bg_isa_active()), a.threads);
     if (a.json) {
         cli_json j;
-        cli_json_begin(&j, stdout);
-        cli_json_common(&j, cmd, dt);
-        cli_json_int(&j, "rows", (long long)stats.rows);
-        cli_json_num(&j, "rows_per_second", dt > 0 ? (double)stats.rows / dt : 0.0);
+        cli_json_points_begin(&j, cmd, dt, stats->rows);
         cli_json_object(&j, "parameters");
-        cli_json_str(&j, "input", a.input);
-        cli_json_str(&j, "output", a.output);
-        cli_json_str(&j, "function", cli_function_name(a.fractal.function));
-        cli_json_int(&j, "octaves", a.fractal.octaves);
-        cli_json_float(&j, "lacunarity", a.fractal.lacunarity);
-        cli_json_float(&j, "gain", a.fractal.gain);
+        cli_json_str(&j, "input", a.io.input);
+        cli_json_str(&j, "output", a.io.output);
+        cli_json_fractal(&j, &a.fractal);
         cli_json_str(&j, "gradient", a.central ? "central" : "analytic");
         cli_json_num(&j, "step", a.step);
         cli_json_str(&j, "precision", a.dbl ? "double" : "float");

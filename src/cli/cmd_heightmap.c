@@ -66,6 +66,8 @@ static const cli_opt heightmap_opts[] = {
 };
 #undef A
 
+static int run_heightmap(void *args, const char *const *pos, int npos);
+
 const cli_spec cli_spec_heightmap = {
     .name = "heightmap",
     .summary = "image -> tangent-space normal map (seed method); normal map -> derivative map",
@@ -96,16 +98,12 @@ const cli_spec cli_spec_heightmap = {
     .args_size = sizeof(heightmap_args),
     .defaults = heightmap_defaults,
     .max_positional = 2,
+    .run = run_heightmap,
 };
 
-int cmd_heightmap(int argc, char **argv)
+static int run_heightmap(void *args, const char *const *pos, int npos)
 {
-    heightmap_args a;
-    const char *pos[2];
-    int npos = 0;
-    int rc = cli_args_parse(&cli_spec_heightmap, argc, argv, &a, pos, &npos);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
+    heightmap_args a = *(heightmap_args *)args;
     if (npos != 2)
         return cli_usage_error(CMD, "expected IN OUT (see bumpgrad heightmap --help)");
     for (int k = 0; k < 2; k++)

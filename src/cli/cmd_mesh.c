@@ -131,8 +131,7 @@ static const cli_opt mesh_opts_table[] = {
      .choices = join_choices, .choice_values = join_values},
     {.name = "ascii", .kind = CLI_KIND_FLAG, .offset = A(ascii),
      .help = "ASCII PLY instead of binary little-endian"},
-    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
-     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024, .flags = CLI_ZERO_NONE},
+    CLI_OPT_INCLUDE(A(threads), cli_threads_opts, NULL),
     {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
      .help = "the summary as one JSON object on stdout"},
     CLI_OPT_END,
@@ -171,6 +170,8 @@ static const cli_opt mesh_table[] = {
 };
 #undef A
 
+static int run_mesh(void *args, const char *const *pos, int npos);
+
 const cli_spec cli_spec_mesh = {
     .name = "mesh",
     .summary = "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a "
@@ -208,17 +209,15 @@ const cli_spec cli_spec_mesh = {
     .args_size = sizeof(mesh_args),
     .defaults = mesh_defaults,
     .max_positional = 2,
+    .run = run_mesh,
 };
 
-int cmd_mesh(int argc, char **argv)
+static int run_mesh(void *args, const char *const *pos, int npos)
 {
-    const char *cmd = "mesh", *pos[2] = {NULL, NULL};
-    mesh_args a;
-    int npos = 0;
-    int rc = cli_args_parse(&cli_spec_mesh, argc, argv, &a, pos, &npos);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
-    const char *in_path = pos[0], *out_path = pos[1], *bake_path = a.bake_path;
+    const char *cmd = "mesh";
+    mesh_args a = *(mesh_args *)args;
+    const char *in_path = npos > 0 ? pos[0] : NULL, *out_path = npos > 1 ? pos[1] : NULL;
+    const char *bake_path = a.bake_path;
     bg_perturb_method method = (bg_perturb_method)a.method;
     const mesh_bake_opts bake = a.bake;
     int ascii = a.ascii;

@@ -12,7 +12,7 @@
 #include "points/points.h"
 
 typedef struct perturb_args {
-    const char *input, *output;
+    cli_table_io io;
     int method, threads, allow_nonfinite, json;
     bgt_height height;
 } perturb_args;
@@ -27,18 +27,11 @@ static void perturb_defaults(void *p)
 
 #define A(m) offsetof(perturb_args, m)
 static const cli_opt perturb_opts[] = {
-    {.name = "input", .short_name = 'i', .kind = CLI_KIND_STRING, .offset = A(input),
-     .metavar = "FILE", .help = "input table, \"-\" for standard input",
-     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
-    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = A(output),
-     .metavar = "FILE", .help = "output table, \"-\" for standard output; written to a temporary "
-                                "file and renamed on success",
-     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    CLI_OPT_INCLUDE(A(io), cli_table_io_opts, NULL),
     {.name = "method", .kind = CLI_KIND_CHOICE, .offset = A(method), .metavar = "M",
      .help = "surfgrad, additive or additive-perlin", .choices = cli_method_choices,
      .choice_values = cli_method_values},
-    {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
-     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024},
+    CLI_OPT_INCLUDE(A(threads), cli_threads_opts, NULL),
     {.name = "allow-nonfinite", .kind = CLI_KIND_FLAG, .offset = A(allow_nonfinite),
      .help = "accept nan/inf fields (see the NaN rules in surfgrad.h); without it they are an "
              "error"},
@@ -49,6 +42,8 @@ static const cli_opt perturb_opts[] = {
     CLI_OPT_END,
 };
 #undef A
+
+static int run_perturb(void *args, const char *const *pos, int npos);
 
 const cli_spec cli_spec_perturb = {
     .name = "perturb",
@@ -81,16 +76,15 @@ const cli_spec cli_spec_perturb = {
             "  printf 'x,y,z,nx,ny,nz\\n0.3,0.2,0.1,0,0,1\\n' | bumpgrad perturb -i - -o -\n",
     .args_size = sizeof(perturb_args),
     .defaults = perturb_defaults,
+    .run = run_perturb,
 };
 
-int cmd_perturb(int argc, char **argv)
+static int run_perturb(void *args, const char *const *pos, int npos)
 {
+    (void)pos, (void)npos;
     const char *cmd = "perturb";
-    perturb_args a;
-    int rc = cli_args_parse(&cli_spec_perturb, argc, argv, &a, NULL, NULL);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
-    if (a.json && strcmp(a.output, "-") == 0)
+    perturb_args a = *(perturb_args *)args;
+    if (a.json && strcmp(a.io.output, "-") == 0)
         return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
     bgt_err herr;
     bg_status hs = bgt_height_open(&a.height, &herr);
@@ -99,13 +93,12 @@ int cmd_perturb(int argc, char **argv)
     if (a.threads == 0)
         a.threads = bgt_threads_default();
 
-    cli_progress prog;
-    bgt_progress sink = cli_progress_sink(&prog);
-    bgt_points_stats stats = {0};
-    prog.rows = &stats.rows;
-    bgt_perturb_opts opts = {.input = a.input, .output = a.output, .height = &a.height,
+    cli_points_progress pp;
+    cli_points_progress_init(&pp);
+    bgt_points_stats *const stats = &pp.stats;
+    bgt_perturb_opts opts = {.input = a.io.input, .output = a.io.output, .height = &a.height,
                              .method = (bg_perturb_method)a.method, .threads = a.threads,
-                             .allow_nonfinite = a.allow_nonfinite, .progress = &sink, .stats = &stats};
+                             .allow_nonfinite = a.allow_nonfinite, .progress = &pp.sink, .stats = stats};
     bgt_err err;
     double t0 = cli_now();
     bg_status st = bgt_perturb_run(&opts, &err);
@@ -113,33 +106,30 @@ int cmd_perturb(int argc, char **argv)
     bgt_height_close(&a.height);
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
-    const double *gb = stats.grid_box;
-    if (stats.grid && stats.rows > 0 && stats.in_grid == 0)
+    const double *gb = stats->grid_box;
+    if (stats->grid && stats->rows > 0 && stats->in_grid == 0)
         cli_warn(cmd, "none of the %zu points lies in the active region of %s (active voxel "
                       "centres in [%g,%g,%g]..[%g,%g,%g]): the height is 0 there and every "
                       "normal is unchanged",
-                 stats.rows, a.height.grid_path, gb[0], gb[1], gb[2], gb[3], gb[4], gb[5]);
-    else if (stats.grid)
-        cli_info(cmd, "%zu of %zu points inside the active box of %s", stats.in_grid, stats.rows,
+                 stats->rows, a.height.grid_path, gb[0], gb[1], gb[2], gb[3], gb[4], gb[5]);
+    else if (stats->grid)
+        cli_info(cmd, "%zu of %zu points inside the active box of %s", stats->in_grid, stats->rows,
                  a.height.grid_path);
-    cli_info(cmd, "%zu rows in %.3f s, %zu inward (%s, %d threads)", stats.rows, dt,
-             stats.inward, bg_isa_name(bg_isa_active()), a.threads);
+    cli_info(cmd, "%zu rows in %.3f s, %zu inward (%s, %d threads)", stats->rows, dt,
+             stats->inward, bg_isa_name(bg_isa_active()), a.threads);
     if (a.json) {
         cli_json j;
-        cli_json_begin(&j, stdout);
-        cli_json_common(&j, cmd, dt);
-        cli_json_int(&j, "rows", (long long)stats.rows);
-        cli_json_num(&j, "rows_per_second", dt > 0 ? (double)stats.rows / dt : 0.0);
-        cli_json_int(&j, "inward", (long long)stats.inward);
+        cli_json_points_begin(&j, cmd, dt, stats->rows);
+        cli_json_int(&j, "inward", (long long)stats->inward);
         cli_json_num(&j, "inward_fraction",
-                     stats.rows ? (double)stats.inward / (double)stats.rows : 0.0);
-        if (stats.grid) {
-            cli_json_int(&j, "in_grid", (long long)stats.in_grid);
+                     stats->rows ? (double)stats->inward / (double)stats->rows : 0.0);
+        if (stats->grid) {
+            cli_json_int(&j, "in_grid", (long long)stats->in_grid);
             cli_json_nums(&j, "grid_active_box", gb, 6);
         }
         cli_json_object(&j, "parameters");
-        cli_json_str(&j, "input", a.input);
-        cli_json_str(&j, "output", a.output);
+        cli_json_str(&j, "input", a.io.input);
+        cli_json_str(&j, "output", a.io.output);
         cli_json_str(&j, "method", cli_method_name((bg_perturb_method)a.method));
         cli_json_int(&j, "threads", a.threads);
         cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);

@@ -32,10 +32,6 @@ _Static_assert(sizeof(render_shape) == sizeof(int), "render_shape is stored as i
 _Static_assert(sizeof(render_tracer) == sizeof(int), "render_tracer is stored as int");
 _Static_assert(sizeof(render_preset) == sizeof(int), "render_preset is stored as int");
 
-/* The preset goes first so that any other option overrides it: cmd_render
- * finds it in argv before the parse, and the defaults function applies it. */
-static render_preset preset_asked = PRESET_NONE;
-
 static const char *const preset_choices[] = {"fig1", "fig2", "fig3", "fig4", NULL};
 static const int preset_values[] = {PRESET_FIG1, PRESET_FIG2, PRESET_FIG3, PRESET_FIG4};
 static const char *const shape_choices[] = {"sphere", "blob", "torus", NULL};
@@ -48,9 +44,21 @@ static void render_defaults(void *p)
     render_args *a = p;
     memset(a, 0, sizeof *a);
     render_opts_default(&a->o);
-    a->o.preset = preset_asked;
-    render_apply_preset(&a->o);
     a->fail_above = -1.0f;
+}
+
+/* --preset is set before every other option (CLI_FIRST), so that any other
+ * option given overrides the preset's setting. */
+static int parse_preset(const char *cmd, const char *opt, char *text, void *field)
+{
+    render_opts *o = field;
+    for (int k = 0; preset_choices[k]; k++)
+        if (strcmp(text, preset_choices[k]) == 0) {
+            o->preset = (render_preset)preset_values[k];
+            render_apply_preset(o);
+            return 0;
+        }
+    return cli_usage_error(cmd, "%s: expected fig1, fig2, fig3 or fig4, got \"%s\"", opt, text);
 }
 
 static int add_method(const char *cmd, render_opts *o, const char *name)
@@ -214,11 +222,11 @@ static const cli_opt render_opts_table[] = {
      .help = "side-by-side panel of up to 8 methods with heat maps of the angle error against "
              "analytic surfgrad",
      .parse = parse_compare},
-    {.name = "preset", .kind = CLI_KIND_CHOICE, .offset = O(preset), .metavar = "P",
+    {.name = "preset", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "P",
      .help = "fig1, fig2, fig3 or fig4: the paper's figures (any other option given overrides "
              "the preset's setting); fig4 uses assimp-testmodels' OBJ/spider.obj unless --mesh "
              "is given",
-     .flags = CLI_NO_DEFAULT, .choices = preset_choices, .choice_values = preset_values},
+     .flags = CLI_FIRST, .parse = parse_preset, .choices = preset_choices},
     {.name = "scene", .kind = CLI_KIND_CHOICE, .offset = O(shape), .metavar = "S",
      .help = "sphere, blob or torus (isosurfaces)", .choices = shape_choices,
      .choice_values = shape_values},
@@ -248,8 +256,7 @@ static const cli_opt render_opts_table[] = {
      .help = "angle error shown at the top of the heat map, > 0", .flags = CLI_GT_LO, .lo = 0},
     {.name = "sweep", .kind = CLI_KIND_FLAG, .offset = O(sweep),
      .help = "print the error against surfgrad at 1/4..4x pixel density"},
-    {.name = "threads", .kind = CLI_KIND_INT, .offset = O(threads), .metavar = "N",
-     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024, .flags = CLI_ZERO_NONE},
+    CLI_OPT_INCLUDE(O(threads), cli_threads_opts, NULL),
     {.name = "mesh", .kind = CLI_KIND_STRING, .offset = O(mesh_path), .metavar = "FILE",
      .help = "render a mesh file (any format assimp reads) instead of --scene; centred and "
              "scaled into the unit sphere",
@@ -284,6 +291,8 @@ static const cli_opt render_opts_table[] = {
 };
 #undef A
 #undef O
+
+static int run_render(void *args, const char *const *pos, int npos);
 
 const cli_spec cli_spec_render = {
     .name = "render",
@@ -333,25 +342,9 @@ const cli_spec cli_spec_render = {
             "  bumpgrad render --compare surfgrad,listing1,additive --size 256x256 -o cmp.png\n",
     .args_size = sizeof(render_args),
     .defaults = render_defaults,
+    .run = run_render,
 };
 
-/* The --preset of argv (the last one, as the parse keeps it), before `--`;
- * an unknown name is left to the parse, which reports it. */
-static render_preset find_preset(int argc, char **argv)
-{
-    render_preset p = PRESET_NONE;
-    for (int i = 1; i < argc && strcmp(argv[i], "--") != 0; i++) {
-        const char *v = NULL;
-        if (strcmp(argv[i], "--preset") == 0 && i + 1 < argc)
-            v = argv[++i];
-        else if (strncmp(argv[i], "--preset=", 9) == 0)
-            v = argv[i] + 9;
-        for (int k = 0; v && preset_choices[k]; k++)
-            if (strcmp(v, preset_choices[k]) == 0)
-                p = (render_preset)preset_values[k];
-    }
-    return p;
-}
 
 static void print_json(const render_opts *o, const render_result *r, double seconds)
 {
@@ -401,14 +394,11 @@ static void print_json(const render_opts *o, const render_result *r, double seco
 }
 
 
-int cmd_render(int argc, char **argv)
+static int run_render(void *args, const char *const *pos, int npos)
 {
-    render_args a;
-    preset_asked = find_preset(argc, argv);
-    int rc = cli_args_parse(&cli_spec_render, argc, argv, &a, NULL, NULL);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
-    render_opts o = a.o;
+    (void)pos, (void)npos;
+    const render_args *a = args;
+    render_opts o = a->o;
     if (!o.output)
         return cli_usage_error(CMD, "--output FILE is required (.png or .exr)");
     bgt_err err;
@@ -426,7 +416,7 @@ int cmd_render(int argc, char **argv)
     bgt_height_close(&o.h);
     if (s != BG_OK && r.out_width == 0)
         return cli_report(CMD, s, &err);
-    if (a.json) {
+    if (a->json) {
         print_json(&o, &r, (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
         goto verdict;
     }
@@ -446,7 +436,7 @@ int cmd_render(int argc, char **argv)
                r.textures);
     for (int m = 0; m < r.nmethods; m++)
         printf("stats %s%.*s%smethod=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
-               r.labels[m] ? "panel=" : "", r.labels[m] ? 1 : 0, "abcdef" + (m < 6 ? m : 0),
+               r.labels[m] ? "panel=" : "", r.labels[m] ? 1 : 0, &"abcdef"[m < 6 ? m : 0],
                r.labels[m] ? " " : "", render_method_name(r.methods[m]), r.stats[m].mean_deg, r.stats[m].p99_deg,
                r.stats[m].max_deg, r.stats[m].inward_fraction, r.stats[m].hits);
     printf("wrote %s %dx%d\n", o.output, r.out_width, r.out_height);
@@ -462,13 +452,13 @@ verdict:
      * run still fails. */
     if (s != BG_OK)
         return cli_report(CMD, s, &err);
-    if (a.fail_above >= 0)
+    if (a->fail_above >= 0)
         for (int m = 0; m < r.nmethods; m++)
-            if (r.stats[m].mean_deg > a.fail_above) {
+            if (r.stats[m].mean_deg > a->fail_above) {
                 fflush(stdout);
                 fprintf(stderr, "bumpgrad render: FAIL: %s mean angle %.4f deg > --fail-above %g\n",
                         render_method_name(r.methods[m]), r.stats[m].mean_deg,
-                        (double)a.fail_above);
+                        (double)a->fail_above);
                 return 3;
             }
     return CLI_OK;

@@ -35,6 +35,8 @@ static const cli_opt stability_opts[] = {
 };
 #undef A
 
+static int run_stability(void *args, const char *const *pos, int npos);
+
 const cli_spec cli_spec_stability = {
     .name = "stability",
     .summary = "sweeps where bump methods fail: markdown report, CSVs, charts",
@@ -51,6 +53,7 @@ const cli_spec cli_spec_stability = {
     .opts = stability_opts,
     .args_size = sizeof(stability_args),
     .defaults = stability_defaults,
+    .run = run_stability,
 };
 
 static void on_wrote(void *ctx, const char *path)
@@ -60,21 +63,13 @@ static void on_wrote(void *ctx, const char *path)
         printf("wrote %s\n", path);
 }
 
-static void on_gnuplot(void *ctx, const char *text)
+static int run_stability(void *args, const char *const *pos, int npos)
 {
-    (void)ctx;
-    fprintf(stderr, "gnuplot: %s", text);
-}
-
-int cmd_stability(int argc, char **argv)
-{
-    stability_args a;
-    int r = cli_args_parse(&cli_spec_stability, argc, argv, &a, NULL, NULL);
-    if (r)
-        return r == CLI_HELP ? CLI_OK : r;
+    (void)pos, (void)npos;
+    stability_args a = *(stability_args *)args;
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
-    bgt_study_report rep = {on_wrote, on_gnuplot, NULL};
+    bgt_study_report rep = {on_wrote, cli_study_gnuplot, NULL};
     bgt_stability_opts o = {.out_dir = a.out_dir, .samples = (size_t)a.samples,
                             .chart = !a.no_chart, .progress = &sink, .report = &rep};
     bgt_err err;

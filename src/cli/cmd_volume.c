@@ -116,6 +116,8 @@ static const cli_opt volume_opts[] = {
 };
 #undef A
 
+static int run_volume(void *args, const char *const *pos, int npos);
+
 const cli_spec cli_spec_volume = {
     .name = "volume",
     .summary = "bake a height function and its gradient into an OpenVDB file",
@@ -138,14 +140,13 @@ const cli_spec cli_spec_volume = {
             "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n",
     .args_size = sizeof(volume_args),
     .defaults = volume_defaults,
+    .run = run_volume,
 };
 
-int cmd_volume(int argc, char **argv)
+static int run_volume(void *args, const char *const *pos, int npos)
 {
-    volume_args a;
-    int rc = cli_args_parse(&cli_spec_volume, argc, argv, &a, NULL, NULL);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
+    (void)pos, (void)npos;
+    volume_args a = *(volume_args *)args;
     if (strcmp(a.output, "-") == 0)
         return cli_usage_error(CMD, "--output -: OpenVDB writes files, not streams; give a "
                                     "FILE.vdb");

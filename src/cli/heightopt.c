@@ -2,7 +2,9 @@
 /* The height-function options shared by every command that bumps a surface,
  * as one table fragment (cli_height_opts, see args.h), parsed into a
  * bgt_height so each command evaluates exactly what the library's fused
- * kernel evaluates: h(p) = A F(f p), grad h = (A f) F'(f p). */
+ * kernel evaluates: h(p) = A F(f p), grad h = (A f) F'(f p). Also the
+ * other fragments several commands share (--input/--output of the table
+ * commands, --threads) and the choice names the commands print. */
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
@@ -112,6 +114,33 @@ const cli_opt cli_height_opts[] = {
 #undef HO
 const char cli_height_heading[] = "Height function h(p) = A * F(f * p):";
 
+#define IO(m) offsetof(cli_table_io, m)
+const cli_opt cli_table_io_opts[] = {
+    {.name = "input", .short_name = 'i', .kind = CLI_KIND_STRING, .offset = IO(input),
+     .metavar = "FILE", .help = "input table, \"-\" for standard input",
+     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = IO(output),
+     .metavar = "FILE", .help = "output table, \"-\" for standard output; written to a temporary "
+                                "file and renamed on success",
+     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    CLI_OPT_END,
+};
+#undef IO
+
+const cli_opt cli_threads_opts[] = {
+    {.name = "threads", .kind = CLI_KIND_INT, .offset = 0, .metavar = "N",
+     .help = "worker threads, 0 = all cores", .lo = 0, .hi = 1024, .flags = CLI_ZERO_NONE},
+    CLI_OPT_END,
+};
+
+void cli_json_fractal(cli_json *j, const bg_fractal *f)
+{
+    cli_json_str(j, "function", cli_function_name(f->function));
+    cli_json_int(j, "octaves", f->octaves);
+    cli_json_float(j, "lacunarity", f->lacunarity);
+    cli_json_float(j, "gain", f->gain);
+}
+
 void cli_json_height(cli_json *j, const char *key, const bgt_height *h)
 {
     cli_json_object(j, key);
@@ -119,10 +148,7 @@ void cli_json_height(cli_json *j, const char *key, const bgt_height *h)
         cli_json_str(j, "grid_path", h->grid_path);
         cli_json_str(j, "grid_name", h->grid_name);
     } else {
-        cli_json_str(j, "function", cli_function_name(h->h.fractal.function));
-        cli_json_int(j, "octaves", h->h.fractal.octaves);
-        cli_json_float(j, "lacunarity", h->h.fractal.lacunarity);
-        cli_json_float(j, "gain", h->h.fractal.gain);
+        cli_json_fractal(j, &h->h.fractal);
         cli_json_float(j, "amplitude", h->h.amplitude);
         cli_json_float(j, "frequency", h->h.frequency);
         cli_json_str(j, "gradient", h->h.gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic");

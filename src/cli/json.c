@@ -5,30 +5,18 @@
 
 void cli_json_write_string(FILE *fp, const char *s)
 {
+    /* RFC 8259: the two that must be escaped and the short forms of three
+     * control characters; every other control character as \u00XX. */
+    static const char *const short_escape[128] = {
+        ['"'] = "\\\"", ['\\'] = "\\\\", ['\n'] = "\\n", ['\r'] = "\\r", ['\t'] = "\\t"};
     fputc('"', fp);
     for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-        switch (*p) {
-        case '"':
-            fputs("\\\"", fp);
-            break;
-        case '\\':
-            fputs("\\\\", fp);
-            break;
-        case '\n':
-            fputs("\\n", fp);
-            break;
-        case '\r':
-            fputs("\\r", fp);
-            break;
-        case '\t':
-            fputs("\\t", fp);
-            break;
-        default:
-            if (*p < 0x20 || *p == 0x7f)
-                fprintf(fp, "\\u%04x", *p);
-            else
-                fputc(*p, fp);
-        }
+        if (*p < 128 && short_escape[*p])
+            fputs(short_escape[*p], fp);
+        else if (*p < 0x20 || *p == 0x7f)
+            fprintf(fp, "\\u%04x", *p);
+        else
+            fputc(*p, fp);
     }
     fputc('"', fp);
 }
@@ -80,12 +68,18 @@ void cli_json_str(cli_json *j, const char *k, const char *v)
         fputs("null", j->fp);
 }
 
-static void num(FILE *fp, double v)
+/* %.17g (double) or %.9g (float) reads back to the same bits; NaN/Inf: null. */
+static void num_digits(FILE *fp, double v, int digits)
 {
     if (isfinite(v))
-        fprintf(fp, "%.17g", v);
+        fprintf(fp, "%.*g", digits, v);
     else
         fputs("null", fp);
+}
+
+static void num(FILE *fp, double v)
+{
+    num_digits(fp, v, 17);
 }
 
 void cli_json_num(cli_json *j, const char *k, double v)
@@ -97,10 +91,7 @@ void cli_json_num(cli_json *j, const char *k, double v)
 void cli_json_float(cli_json *j, const char *k, float v)
 {
     key(j, k);
-    if (isfinite(v))
-        fprintf(j->fp, "%.9g", (double)v);
-    else
-        fputs("null", j->fp);
+    num_digits(j->fp, (double)v, 9);
 }
 
 void cli_json_int(cli_json *j, const char *k, long long v)

@@ -7,6 +7,7 @@
 #ifndef BUMPGRAD_CLI_JSON_H
 #define BUMPGRAD_CLI_JSON_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 typedef struct cli_json {
@@ -28,8 +29,14 @@ void cli_json_nums(cli_json *j, const char *key, const double *v, int n);
 /* Shared blocks of the commands' statistics: "command", "version", "isa",
  * "isa_best", "seconds" (util.c); the height parameters as an object (heightopt.c). */
 void cli_json_common(cli_json *j, const char *cmd, double seconds);
+/* The points commands (eval, perturb): begin on stdout, the common block,
+ * "rows" and "rows_per_second" (util.c). */
+void cli_json_points_begin(cli_json *j, const char *cmd, double seconds, size_t rows);
 struct bgt_height;
 void cli_json_height(cli_json *j, const char *key, const struct bgt_height *h);
+/* "function", "octaves", "lacunarity", "gain" of a fractal (heightopt.c). */
+struct bg_fractal;
+void cli_json_fractal(cli_json *j, const struct bg_fractal *f);
 /* The escaped form of s, for tests of the escaper. */
 void cli_json_write_string(FILE *fp, const char *s);
 

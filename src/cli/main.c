@@ -8,33 +8,25 @@
 #include "cli.h"
 
 /* The subcommand table, in the order `bumpgrad --help` lists them.
- * To add a command: declare cmd_<name> in cli.h, add cmd_<name>.c to
+ * To add a command: declare its cli_spec_<name> in cli.h, add cmd_<name>.c to
  * src/cli/meson.build (cli_tool_sources if it needs the I/O shim), and add one
  * line in the matching block here. */
 static const char *const bench_own[] = {"--isa", NULL};
 static const cli_command commands[] = {
-    {"eval", "noise / fBm / turbulence value and gradient at points from a CSV table", cmd_eval,
-     &cli_spec_eval, NULL},
-    {"perturb", "bump surface normals from a CSV table (surface gradient or additive)",
-     cmd_perturb, &cli_spec_perturb, NULL},
+    {"eval", NULL, NULL, &cli_spec_eval, NULL},
+    {"perturb", NULL, NULL, &cli_spec_perturb, NULL},
     /* Core commands without the I/O shim (bench, accuracy, stability) go here. */
     {"bench", "throughput of every kernel and ISA, 1 and N threads, against peer libraries", cmd_bench,
      NULL, bench_own},
-    {"accuracy", "speed against accuracy of every gradient method: CSV and a log-log chart",
-     cmd_accuracy, &cli_spec_accuracy, NULL},
-    {"stability", "sweeps where bump methods fail: markdown report, CSVs, charts", cmd_stability,
-     &cli_spec_stability, NULL},
+    {"accuracy", NULL, NULL, &cli_spec_accuracy, NULL},
+    {"stability", NULL, NULL, &cli_spec_stability, NULL},
 #if BG_HAVE_TOOLS
     /* Commands that need OpenImageIO / OpenVDB / assimp (render, mesh, volume, ...)
      * go here. */
-    {"volume", "bake a height function and its gradient into an OpenVDB file", cmd_volume,
-     &cli_spec_volume, NULL},
-    {"heightmap", "image -> tangent-space normal map (seed method); normal map -> derivative map",
-     cmd_heightmap, &cli_spec_heightmap, NULL},
-    {"render", "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
-     cmd_render, &cli_spec_render, NULL},
-    {"mesh", "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a normal map",
-     cmd_mesh, &cli_spec_mesh, NULL},
+    {"volume", NULL, NULL, &cli_spec_volume, NULL},
+    {"heightmap", NULL, NULL, &cli_spec_heightmap, NULL},
+    {"render", NULL, NULL, &cli_spec_render, NULL},
+    {"mesh", NULL, NULL, &cli_spec_mesh, NULL},
 #endif
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
@@ -58,7 +50,8 @@ static void main_help(FILE *fp)
           "Commands:\n",
           fp);
     for (size_t i = 0; i < n_commands; i++)
-        fprintf(fp, "  %-12s %s\n", commands[i].name, commands[i].summary);
+        fprintf(fp, "  %-12s %s\n", commands[i].name,
+                commands[i].spec ? commands[i].spec->summary : commands[i].summary);
     fputs("\n"
           "Global options (anywhere on the command line, before a `--`):\n"
           "  --isa NAME    run the SIMD kernels at ISA level NAME (scalar, sse2, avx2,\n"
@@ -351,7 +344,7 @@ static int dispatch(int argc, char **argv)
         return rc;
     }
     if (c) {
-        rc = c->run(cargc, cargv);
+        rc = c->spec ? cli_run_command(c->spec, cargc, cargv) : c->run(cargc, cargv);
         free(cargv);
         return rc;
     }

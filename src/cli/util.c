@@ -4,6 +4,7 @@
  * errors, because a silently truncated or non-finite parameter gives a plausible
  * but wrong picture rather than a failure. */
 #define _POSIX_C_SOURCE 200809L
+#include "args.h"
 #include "cli.h"
 #include "json.h"
 #include <ctype.h>
@@ -51,37 +52,39 @@ static int bad_edges(const char *text)
     return text[0] == '\0' || isspace((unsigned char)text[0]);
 }
 
-int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out)
+/* One reader for both precisions: strtof for float (a double rounded again to
+ * float could differ in the last bit), strtod for double. ERANGE with a large
+ * result is overflow to inf; with a tiny one it is a harmless underflow to a
+ * subnormal or zero. */
+static int parse_real(const char *cmd, const char *opt, const char *text, int in_float,
+                      double *out)
 {
     if (!text || bad_edges(text))
         return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text ? text : "");
     char *end;
     errno = 0;
-    double v = strtod(text, &end);
+    double v = in_float ? (double)strtof(text, &end) : strtod(text, &end);
     if (*end != '\0')
         return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text);
     if (!isfinite(v) || (errno == ERANGE && fabs(v) > 1.0))
-        return cli_usage_error(cmd, "%s: expected a finite number, got \"%s\"", opt, text);
+        return cli_usage_error(cmd, "%s: expected a finite number%s, got \"%s\"", opt,
+                               in_float ? " in float range" : "", text);
     *out = v;
     return 0;
 }
 
+int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out)
+{
+    return parse_real(cmd, opt, text, 0, out);
+}
+
 int cli_parse_float(const char *cmd, const char *opt, const char *text, float *out)
 {
-    if (!text || bad_edges(text))
-        return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text ? text : "");
-    char *end;
-    errno = 0;
-    float v = strtof(text, &end);
-    if (*end != '\0')
-        return cli_usage_error(cmd, "%s: expected a number, got \"%s\"", opt, text);
-    /* ERANGE with a large result is overflow to inf; with a tiny one it is a
-     * harmless underflow to a subnormal or zero. */
-    if (!isfinite(v) || (errno == ERANGE && fabsf(v) > 1.0f))
-        return cli_usage_error(cmd, "%s: expected a finite number in float range, got \"%s\"", opt,
-                               text);
-    *out = v;
-    return 0;
+    double v = 0;
+    int rc = parse_real(cmd, opt, text, 1, &v);
+    if (!rc)
+        *out = (float)v; /* exact: v came from strtof */
+    return rc;
 }
 
 int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, long hi, long *out)
@@ -277,17 +280,24 @@ void cli_progress_end(cli_progress *p)
     p->verbose = 0;
 }
 
-static const char *const function_names[] = {"noise", "fbm", "turbulence"};
-static const char *const method_names[] = {"surfgrad", "additive", "additive-perlin"};
+/* The names of the option tables' choices (heightopt.c), so that what is
+ * printed is what is parsed. */
+static const char *choice_name(const char *const *names, const int *values, int v)
+{
+    for (int k = 0; names[k]; k++)
+        if (values[k] == v)
+            return names[k];
+    return "?";
+}
 
 const char *cli_function_name(bg_function f)
 {
-    return (unsigned)f < 3 ? function_names[f] : "?";
+    return choice_name(cli_function_choices, cli_function_values, (int)f);
 }
 
 const char *cli_method_name(bg_perturb_method m)
 {
-    return (unsigned)m < 3 ? method_names[m] : "?";
+    return choice_name(cli_method_choices, cli_method_values, (int)m);
 }
 
 /* ---- tools results ------------------------------------------------------- */
@@ -331,6 +341,13 @@ bgt_progress cli_progress_sink(cli_progress *p)
     return s;
 }
 
+void cli_points_progress_init(cli_points_progress *p)
+{
+    p->sink = cli_progress_sink(&p->prog);
+    memset(&p->stats, 0, sizeof p->stats);
+    p->prog.rows = &p->stats.rows;
+}
+
 void cli_json_common(cli_json *j, const char *cmd, double seconds)
 {
     cli_json_str(j, "command", cmd);
@@ -338,4 +355,18 @@ void cli_json_common(cli_json *j, const char *cmd, double seconds)
     cli_json_str(j, "isa", bg_isa_name(bg_isa_active()));
     cli_json_str(j, "isa_best", bg_isa_name(bg_isa_best()));
     cli_json_num(j, "seconds", seconds);
+}
+
+void cli_json_points_begin(cli_json *j, const char *cmd, double seconds, size_t rows)
+{
+    cli_json_begin(j, stdout);
+    cli_json_common(j, cmd, seconds);
+    cli_json_int(j, "rows", (long long)rows);
+    cli_json_num(j, "rows_per_second", seconds > 0 ? (double)rows / seconds : 0.0);
+}
+
+void cli_study_gnuplot(void *ctx, const char *text)
+{
+    (void)ctx;
+    fprintf(stderr, "gnuplot: %s", text);
 }
