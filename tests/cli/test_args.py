@@ -365,8 +365,11 @@ def render_mesh():
         rc2, o2, _ = run(["render", "--preset", "fig2", "--size", "16x16", "-o", a])
         rc3, o3, _ = run(["render", "--preset", "fig2", "--size", "16x16", "--amplitude=0.1",
                           "-o", a])
-        check(rc1 == 0 and o1 == o2 and "amplitude=0.4" in o1 and "amplitude=0.1" in o3,
-              "render --preset anywhere, options override it: %r %r" % (o1, o3))
+        rc4, o4, _ = run(["render", "--amplitude=0.1", "--size", "16x16", "--preset", "fig2",
+                          "-o", a])
+        check(rc1 == 0 and o1 == o2 and "amplitude=0.4" in o1 and "amplitude=0.1" in o3 and
+              o4 == o3, "render --preset anywhere, options before or after override it: %r %r %r"
+              % (o1, o3, o4))
 
         # An input whose name starts with "-", given after `--` (relative to d).
         quad = "-quad.obj"
