@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Peer for `bumpgrad bench`: Sean Barrett's stb_perlin (Debian libstb-dev), used
+/* Peer for `bumpgrad bench` (bench.h): Sean Barrett's stb_perlin (Debian libstb-dev), used
  * only through its public header. This is the one translation unit of bumpgrad
  * that instantiates it, so STB_PERLIN_IMPLEMENTATION is defined here and nowhere
  * else. stb_perlin is also improved noise (Perlin 2002) in float, the closest
@@ -7,8 +7,9 @@
 #define STB_PERLIN_IMPLEMENTATION
 #include <stb/stb_perlin.h>
 
-#include "bench_peers.h"
+#include "bench/bench.h"
 #include "bumpgrad/noise.h"
+#include "bench/peers.h"
 
 /* Wrap 0 means "no wrapping" (period 256, as ours). */
 static inline float stb_value(float x, float y, float z)
@@ -48,12 +49,12 @@ static void stb_grad_central_batch(const float *x, const float *y, const float *
     }
 }
 
-size_t cli_bench_peers_stb(cli_peer *out, size_t cap)
+size_t bench_peers_stb(bgt_bench_peer *out, size_t cap)
 {
-    const cli_peer all[] = {
-        {"stb_perlin", CLI_PEER_VALUE, stb_value_batch},
-        {"stb_perlin", CLI_PEER_FBM, stb_fbm_batch},
-        {"stb_perlin", CLI_PEER_GRAD_CENTRAL, stb_grad_central_batch},
+    const bgt_bench_peer all[] = {
+        {"stb_perlin", BGT_PEER_VALUE, stb_value_batch},
+        {"stb_perlin", BGT_PEER_FBM, stb_fbm_batch},
+        {"stb_perlin", BGT_PEER_GRAD_CENTRAL, stb_grad_central_batch},
     };
     size_t k = 0;
     for (; k < sizeof all / sizeof all[0] && k < cap; k++)
