@@ -10,17 +10,7 @@
 #include <string.h>
 
 #include "bench/bench.h"
-
-static int failures;
-#define CHECK(c, ...)                                                                             \
-    do {                                                                                          \
-        if (!(c)) {                                                                               \
-            failures++;                                                                           \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                                  \
-            fprintf(stderr, __VA_ARGS__);                                                         \
-            fputc('\n', stderr);                                                                  \
-        }                                                                                         \
-    } while (0)
+#include "check.h" /* tests/core: CHECK, check_failures */
 
 static size_t fake_points, fake_calls;
 
@@ -172,9 +162,9 @@ int main(void)
     CHECK(bgt_bench_kernel_count() == 19 && !strcmp(bgt_bench_kernel_name(0), "noise3") &&
               !strcmp(bgt_bench_kernel_name(18), "noise3_n256") && !bgt_bench_kernel_name(19),
           "kernel names");
-    if (failures)
-        fprintf(stderr, "test_bench_engine: %d failures\n", failures);
+    if (check_failures)
+        fprintf(stderr, "test_bench_engine: %d failures\n", check_failures);
     else
         printf("test_bench_engine: ok\n");
-    return failures != 0;
+    return check_failures != 0;
 }

@@ -33,20 +33,10 @@ static void stb_fbm_batch(const float *x, const float *y, const float *z, size_t
         v[i] = stb_perlin_fbm_noise3(x[i], y[i], z[i], 2.0f, 0.5f, 6);
 }
 
-/* The division uses the step actually taken in float, as bg_fractal3_grad_central
- * does, so both sides do the same arithmetic around the 7 evaluations. */
 static void stb_grad_central_batch(const float *x, const float *y, const float *z, size_t n,
                                    float *v, float *gx, float *gy, float *gz)
 {
-    const float h = BG_DEFAULT_CENTRAL_STEP;
-    for (size_t i = 0; i < n; i++) {
-        float px = x[i], py = y[i], pz = z[i];
-        float xp = px + h, xm = px - h, yp = py + h, ym = py - h, zp = pz + h, zm = pz - h;
-        v[i] = stb_value(px, py, pz);
-        gx[i] = (stb_value(xp, py, pz) - stb_value(xm, py, pz)) / (xp - xm);
-        gy[i] = (stb_value(px, yp, pz) - stb_value(px, ym, pz)) / (yp - ym);
-        gz[i] = (stb_value(px, py, zp) - stb_value(px, py, zm)) / (zp - zm);
-    }
+    bench_central7_batch(stb_value, x, y, z, n, v, gx, gy, gz);
 }
 
 size_t bench_peers_stb(bgt_bench_peer *out, size_t cap)

@@ -7,10 +7,32 @@
 
 #include <stddef.h>
 #include "bench/bench.h"
+#include "bumpgrad/noise.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Value + central-difference gradient from any scalar noise `f`: the 7
+ * evaluations a caller without an analytic gradient pays, with the step of
+ * bumpgrad's own central differences (BG_DEFAULT_CENTRAL_STEP), dividing by the
+ * step actually taken in float, as bg_fractal3_grad_central does, so both sides
+ * of the grad_central comparison do the same arithmetic. Inline so that a
+ * constant `f` is inlined into each peer's loop. */
+static inline void bench_central7_batch(float (*f)(float, float, float), const float *x,
+                                        const float *y, const float *z, size_t n, float *v,
+                                        float *gx, float *gy, float *gz)
+{
+    const float h = BG_DEFAULT_CENTRAL_STEP;
+    for (size_t i = 0; i < n; i++) {
+        float px = x[i], py = y[i], pz = z[i];
+        float xp = px + h, xm = px - h, yp = py + h, ym = py - h, zp = pz + h, zm = pz - h;
+        v[i] = f(px, py, pz);
+        gx[i] = (f(xp, py, pz) - f(xm, py, pz)) / (xp - xm);
+        gy[i] = (f(px, yp, pz) - f(px, ym, pz)) / (yp - ym);
+        gz[i] = (f(px, py, zp) - f(px, py, zm)) / (zp - zm);
+    }
+}
 
 /* Each returns the number of entries written to `out` (at most `cap`). */
 size_t bench_peers_stb(bgt_bench_peer *out, size_t cap); /* peer_stb.c */

@@ -21,10 +21,6 @@
 namespace
 {
 
-// The step of bumpgrad's own central differences, so that both sides of the
-// grad_central comparison do the same 7 evaluations at the same points.
-const float central_step = BG_DEFAULT_CENTRAL_STEP;
-
 typedef float (*point_fn)(float, float, float);
 
 // One call of F per point: the value and fbm rows of every peer.
@@ -36,21 +32,12 @@ void point_batch(const float *x, const float *y, const float *z, std::size_t n, 
         v[i] = F(x[i], y[i], z[i]);
 }
 
-// Value + central-difference gradient from any scalar noise: the 7 evaluations a
-// caller without an analytic gradient pays. Divides by the step actually taken.
+// Value + 7-evaluation central gradient (peers.h) of any scalar noise.
 template <point_fn F>
 void central7_batch(const float *x, const float *y, const float *z, std::size_t n, float *v,
                     float *gx, float *gy, float *gz)
 {
-    const float h = central_step;
-    for (std::size_t i = 0; i < n; i++) {
-        float px = x[i], py = y[i], pz = z[i];
-        float xp = px + h, xm = px - h, yp = py + h, ym = py - h, zp = pz + h, zm = pz - h;
-        v[i] = F(px, py, pz);
-        gx[i] = (F(xp, py, pz) - F(xm, py, pz)) / (xp - xm);
-        gy[i] = (F(px, yp, pz) - F(px, ym, pz)) / (yp - ym);
-        gz[i] = (F(px, py, zp) - F(px, py, zm)) / (zp - zm);
-    }
+    bench_central7_batch(F, x, y, z, n, v, gx, gy, gz);
 }
 
 #if BGT_HAVE_PEER_LIBNOISE
