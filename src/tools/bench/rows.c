@@ -37,6 +37,9 @@ static const kernel_info kernels[K_COUNT] = {
     {"noise3_n16", BGT_PEER_VALUE},
     {"noise3_n64", BGT_PEER_VALUE},
     {"noise3_n256", BGT_PEER_VALUE},
+    /* GRID ROWS (issue 10 item 3, at merge with bg_noise3_grid / bg_fractal3_grid):
+     * {"noise3_grid", BGT_PEER_VALUE}, {"fbm3_grid", BGT_PEER_FBM}, after the
+     * K_NOISE3_GRID / K_FBM3_GRID enumerators in bench_impl.h. */
 };
 
 const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT] = {"value", "fbm", "grad_central"};
@@ -110,6 +113,9 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
         t->perturb(j->kernel == K_PERTURB_SURFGRAD ? BG_PERTURB_SURFGRAD : BG_PERTURB_ADDITIVE,
                    d->nx + b, d->ny + b, d->nz + b, d->gx + b, d->gy + b, d->gz + b, n, ox, oy, oz);
         break;
+    /* GRID ROWS: case K_NOISE3_GRID / K_FBM3_GRID call the grid entry points on
+     * a lattice of about n points (a grid has its own inputs: origin, step,
+     * counts; the random px/py/pz do not apply) and write d->v + b. */
     case K_PERTURB_HEIGHT:
         t->perturb_height(&j->height, BG_PERTURB_SURFGRAD, px, py, pz, d->nx + b, d->ny + b,
                           d->nz + b, n, v, ox, oy, oz);
