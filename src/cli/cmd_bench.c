@@ -57,7 +57,9 @@ static const cli_opt bench_opts[] = {
     {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
      .help = "one JSON array on stdout, one record per line, with the keys kernel, isa, threads, "
              "samples, runs, msamples_per_s (median), ns_per_sample, min, max (M samples/s), "
-             "cpu_share, speedup_vs_scalar, thread_scaling, vs_best_peer, best_peer, "
+             "cpu_share, cpu_ns_per_sample (median CPU time of a run per sample, all threads: "
+             "the load-robust figure on a shared machine), speedup_vs_scalar, thread_scaling, "
+             "vs_best_peer, best_peer, "
              "instructions_per_sample (null when n/a); peers have isa \"baseline\" (the build's "
              "default target)"},
     {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
@@ -131,6 +133,7 @@ static void print_json(FILE *fp, const bgt_bench_result *res)
                 r->name, r->isa, r->threads, res->samples, res->runs, r->median,
                 r->median > 0 ? 1e3 / r->median : 0.0, r->min, r->max);
         json_number(fp, "cpu_share", r->cpu_share);
+        json_number(fp, "cpu_ns_per_sample", r->cpu_ns);
         json_number(fp, "speedup_vs_scalar", r->speedup);
         json_number(fp, "thread_scaling", r->scaling);
         json_number(fp, "vs_best_peer", r->vs_peer);

@@ -83,6 +83,10 @@ int main(void)
             CHECK(r->median > 0 && r->min <= r->median && r->median <= r->max, "%s %s timing",
                   r->name, r->isa);
             CHECK(r->icount == 0, "no icount without a file");
+            /* CPU time per sample: positive, and a one-thread run cannot use
+             * much more CPU than wall time (2x leaves room for clock grain). */
+            CHECK(r->cpu_ns > 0 && (r->threads > 1 || r->cpu_ns < 2e3 / r->min + 1e3),
+                  "%s %s cpu_ns %g (wall %g ns)", r->name, r->isa, r->cpu_ns, 1e3 / r->median);
         }
         const bgt_bench_row *sc = find(&res, "noise3", "scalar", 1);
         const bgt_bench_row *sc2 = find(&res, "noise3", "scalar", 2);

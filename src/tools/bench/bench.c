@@ -126,7 +126,7 @@ bg_status bgt_bench_run(const bgt_bench_opts *o, bgt_bench_result *res, bgt_err 
 
     size_t nrows_max = (size_t)K_COUNT * BG_ISA_COUNT * 2 + o->npeers;
     res->rows = calloc(nrows_max, sizeof *res->rows);
-    double *rate = calloc((size_t)o->runs, sizeof *rate);
+    double *rate = calloc(2 * (size_t)o->runs, sizeof *rate);
     bench_data d;
     if (!res->rows || !rate || bench_data_init(&d, o->samples) != 0) {
         free(rate);

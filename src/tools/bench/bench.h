@@ -76,6 +76,10 @@ typedef struct bgt_bench_row {
      * about 1 on a quiet machine, 0.5 when another job took half the cores. The
      * workers of an idle team sleep in the barrier and use none. */
     double cpu_share;
+    /* Median over the runs of the process CPU time of one run per sample, in ns
+     * (all threads together): what a sample costs in CPU, which, unlike the
+     * wall-time median, does not grow when other processes hold the core. */
+    double cpu_ns;
     /* Instructions per sample from opts.icount_path (scripts/kernel_icount.sh
      * --bench, callgrind: load-independent), 0 if not given. */
     double icount;

@@ -83,7 +83,8 @@ bench_team *bench_team_start(int threads);
 int bench_team_threads(const bench_team *t);
 void bench_team_stop(bench_team *t);
 /* Time `job` over [0, n) `runs` times on `threads` of the team (after a
- * warm-up) into row->median/min/max/cpu_share/threads; rate has room for runs. */
+ * warm-up) into row->median/min/max/cpu_share/cpu_ns/threads; rate has room
+ * for 2 x runs. */
 void bench_measure(bench_team *team, int threads, const bench_job *job, size_t n, int runs,
                    double *rate, bgt_bench_row *row);
 double bench_load_average(void);

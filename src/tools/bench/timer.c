@@ -271,19 +271,28 @@ void bench_measure(bench_team *team, int threads, const bench_job *job, size_t n
      * ramp without paying a full slow run of the scalar kernels. */
     size_t warm = n / 8 > 4096 ? n / 8 : n;
     (void)team_time(team, threads, job, warm);
-    double wall = 0.0, cpu0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
+    double wall = 0.0, cpu = 0.0;
+    /* rate[0..runs-1]: M samples/s of each run; rate[runs..2 runs-1]: its CPU
+     * seconds (the caller gives room for 2 x runs). */
+    double *cpu_run = rate + runs;
     for (int r = 0; r < runs; r++) {
+        double c0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
         double s = team_time(team, threads, job, n);
+        cpu_run[r] = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - c0;
+        cpu += cpu_run[r];
         wall += s;
         /* A timer granularity floor keeps a tiny sample count from dividing by 0. */
         rate[r] = (double)n / (s > 1e-9 ? s : 1e-9) / 1e6;
     }
     qsort(rate, (size_t)runs, sizeof *rate, cmp_double);
+    qsort(cpu_run, (size_t)runs, sizeof *cpu_run, cmp_double);
+    double cpu_med =
+        runs % 2 ? cpu_run[runs / 2] : 0.5 * (cpu_run[runs / 2 - 1] + cpu_run[runs / 2]);
+    row->cpu_ns = cpu_med > 0 ? 1e9 * cpu_med / (double)n : 0.0;
     row->min = rate[0];
     row->max = rate[runs - 1];
     row->median = runs % 2 ? rate[runs / 2] : 0.5 * (rate[runs / 2 - 1] + rate[runs / 2]);
     row->threads = threads;
-    double cpu = clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
     row->cpu_share = wall > 0 && cpu > 0 ? cpu / (wall * threads) : 0.0;
 }
 
