@@ -264,6 +264,13 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Median of v[0..n-1], sorting v. */
+static double median_of(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 void bench_measure(bench_team *team, int threads, const bench_job *job, size_t n, int runs,
                    double *rate, bgt_bench_row *row)
 {
@@ -284,14 +291,11 @@ void bench_measure(bench_team *team, int threads, const bench_job *job, size_t n
         /* A timer granularity floor keeps a tiny sample count from dividing by 0. */
         rate[r] = (double)n / (s > 1e-9 ? s : 1e-9) / 1e6;
     }
-    qsort(rate, (size_t)runs, sizeof *rate, cmp_double);
-    qsort(cpu_run, (size_t)runs, sizeof *cpu_run, cmp_double);
-    double cpu_med =
-        runs % 2 ? cpu_run[runs / 2] : 0.5 * (cpu_run[runs / 2 - 1] + cpu_run[runs / 2]);
+    double cpu_med = median_of(cpu_run, runs);
     row->cpu_ns = cpu_med > 0 ? 1e9 * cpu_med / (double)n : 0.0;
+    row->median = median_of(rate, runs);
     row->min = rate[0];
     row->max = rate[runs - 1];
-    row->median = runs % 2 ? rate[runs / 2] : 0.5 * (rate[runs / 2 - 1] + rate[runs / 2]);
     row->threads = threads;
     row->cpu_share = wall > 0 && cpu > 0 ? cpu / (wall * threads) : 0.0;
 }
