@@ -21,7 +21,7 @@ PEER_LIBS = {"stb_perlin", "libnoise", "glm"}
 PEER_OPS = {"value", "fbm", "grad_central"}
 ISAS = {"scalar", "sse2", "avx2", "avx512", "neon", "baseline"}
 NUMBERS = ["msamples_per_s", "ns_per_sample", "min", "max"]
-OPTIONAL = ["cpu_share", "speedup_vs_scalar", "thread_scaling", "vs_best_peer",
+OPTIONAL = ["cpu_share", "cpu_ns_per_sample", "speedup_vs_scalar", "thread_scaling", "vs_best_peer",
             "instructions_per_sample"]
 
 

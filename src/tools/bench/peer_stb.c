@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Peer for `bumpgrad bench`: Sean Barrett's stb_perlin (Debian libstb-dev), used
+/* Peer for `bumpgrad bench` (bench.h): Sean Barrett's stb_perlin (Debian libstb-dev), used
  * only through its public header. This is the one translation unit of bumpgrad
  * that instantiates it, so STB_PERLIN_IMPLEMENTATION is defined here and nowhere
  * else. stb_perlin is also improved noise (Perlin 2002) in float, the closest
@@ -7,8 +7,9 @@
 #define STB_PERLIN_IMPLEMENTATION
 #include <stb/stb_perlin.h>
 
-#include "bench_peers.h"
+#include "bench/bench.h"
 #include "bumpgrad/noise.h"
+#include "bench/peers.h"
 
 /* Wrap 0 means "no wrapping" (period 256, as ours). */
 static inline float stb_value(float x, float y, float z)
@@ -32,28 +33,18 @@ static void stb_fbm_batch(const float *x, const float *y, const float *z, size_t
         v[i] = stb_perlin_fbm_noise3(x[i], y[i], z[i], 2.0f, 0.5f, 6);
 }
 
-/* The division uses the step actually taken in float, as bg_fractal3_grad_central
- * does, so both sides do the same arithmetic around the 7 evaluations. */
 static void stb_grad_central_batch(const float *x, const float *y, const float *z, size_t n,
                                    float *v, float *gx, float *gy, float *gz)
 {
-    const float h = BG_DEFAULT_CENTRAL_STEP;
-    for (size_t i = 0; i < n; i++) {
-        float px = x[i], py = y[i], pz = z[i];
-        float xp = px + h, xm = px - h, yp = py + h, ym = py - h, zp = pz + h, zm = pz - h;
-        v[i] = stb_value(px, py, pz);
-        gx[i] = (stb_value(xp, py, pz) - stb_value(xm, py, pz)) / (xp - xm);
-        gy[i] = (stb_value(px, yp, pz) - stb_value(px, ym, pz)) / (yp - ym);
-        gz[i] = (stb_value(px, py, zp) - stb_value(px, py, zm)) / (zp - zm);
-    }
+    bench_central7_batch(stb_value, x, y, z, n, v, gx, gy, gz);
 }
 
-size_t cli_bench_peers_stb(cli_peer *out, size_t cap)
+size_t bench_peers_stb(bgt_bench_peer *out, size_t cap)
 {
-    const cli_peer all[] = {
-        {"stb_perlin", CLI_PEER_VALUE, stb_value_batch},
-        {"stb_perlin", CLI_PEER_FBM, stb_fbm_batch},
-        {"stb_perlin", CLI_PEER_GRAD_CENTRAL, stb_grad_central_batch},
+    const bgt_bench_peer all[] = {
+        {"stb_perlin", BGT_PEER_VALUE, stb_value_batch},
+        {"stb_perlin", BGT_PEER_FBM, stb_fbm_batch},
+        {"stb_perlin", BGT_PEER_GRAD_CENTRAL, stb_grad_central_batch},
     };
     size_t k = 0;
     for (; k < sizeof all / sizeof all[0] && k < cap; k++)

@@ -1,0 +1,92 @@
+/* SPDX-License-Identifier: MIT */
+/* Private pieces of the bench engine shared by rows.c, timer.c and bench.c. */
+#ifndef BUMPGRAD_TOOLS_BENCH_IMPL_H
+#define BUMPGRAD_TOOLS_BENCH_IMPL_H
+
+#include <stddef.h>
+#include "bench/bench.h"
+#include "kernels.h" /* src/kernels: the per-ISA tables (bench/meson.build) */
+
+/* Our kernels, in row order (bgt_bench_kernel_name). */
+enum {
+    K_NOISE3,
+    K_NOISE3_GRAD,
+    K_FBM3_GRAD,
+    K_TURB3_GRAD,
+    K_TURB3_GRAD_CENTRAL,
+    K_PERTURB_SURFGRAD,
+    K_PERTURB_ADDITIVE,
+    K_PERTURB_HEIGHT,
+    K_FBM3,
+    /* Per-point entry points (always the scalar kernel: measured once, as "scalar"). */
+    K_NOISE3_POINT,
+    K_NOISE3_GRAD_POINT,
+    K_FBM3_POINT,
+    K_FBM3_GRAD_POINT,
+    /* noise3 batch calls of a few points each (the batch kernel on each ISA). */
+    K_NOISE3_N1,
+    K_NOISE3_N4,
+    K_NOISE3_N8,
+    K_NOISE3_N16,
+    K_NOISE3_N64,
+    K_NOISE3_N256,
+    /* Grid entry points (issue 10, item 3) go here once noise.h has them:
+     * K_NOISE3_GRID (bg_noise3_grid), K_FBM3_GRID (bg_fractal3_grid), with a
+     * name in rows.c's table and a case in job_run. */
+    K_COUNT
+};
+
+/* The input and output arrays, SoA, allocated once for the largest batch. */
+enum { BENCH_NARRAYS = 13 };
+typedef struct bench_data {
+    size_t n;
+    float *px, *py, *pz; /* positions */
+    float *nx, *ny, *nz; /* unit normals */
+    float *gx, *gy, *gz; /* volume gradients fed to the perturb kernels */
+    float *v, *ox, *oy, *oz;
+    float *arrays[BENCH_NARRAYS];
+} bench_data;
+
+/* One measured row's work: our kernel on one ISA table, or one peer. */
+typedef struct bench_job {
+    const bench_data *d;
+    const bg_kernel_table *t; /* NULL for a peer */
+    int kernel;
+    const bgt_bench_peer *peer;
+    bg_fractal fbm, turb;
+    bg_height height;
+    float step;
+} bench_job;
+
+/* rows.c */
+/* Run `j` over the points [b, e). */
+void bench_job_run(const bench_job *j, size_t b, size_t e);
+int bench_is_point(int k);
+/* bgt_bench_peer_op of the comparable peer operation of kernel k, -1 if none. */
+int bench_peer_op_of(int k);
+typedef struct bench_sel {
+    int ours[K_COUNT];
+    int peers[BGT_BENCH_MAX_PEERS];
+} bench_sel;
+bg_status bench_select(const char *list, const bgt_bench_peer *peers, size_t npeers,
+                       bench_sel *sel, bgt_err *e);
+/* Fill speedup, scaling, vs_peer, best_peer of every row. */
+void bench_derive(bgt_bench_row *rows, size_t nrows);
+bg_status bench_read_icounts(const char *path, bgt_bench_row *rows, size_t nrows, bgt_err *e);
+
+/* timer.c */
+int bench_data_init(bench_data *d, size_t n);
+void bench_data_free(bench_data *d);
+typedef struct bench_team bench_team;
+/* NULL when the threads or their memory cannot be had; threads <= 1 runs inline. */
+bench_team *bench_team_start(int threads);
+int bench_team_threads(const bench_team *t);
+void bench_team_stop(bench_team *t);
+/* Time `job` over [0, n) `runs` times on `threads` of the team (after a
+ * warm-up) into row->median/min/max/cpu_share/cpu_ns/threads; rate has room
+ * for 2 x runs. */
+void bench_measure(bench_team *team, int threads, const bench_job *job, size_t n, int runs,
+                   double *rate, bgt_bench_row *row);
+double bench_load_average(void);
+
+#endif
