@@ -22,22 +22,17 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 struct cli_spec;
 typedef struct cli_command {
     const char *name;
-    /* A command with an option table (args.h) has only `spec` (its summary
-     * and its run are there; main.c calls cli_run_command); a command still
-     * parsed by hand (bench: its --opt=value is split by main.c) has a
-     * summary and a run instead. */
-    const char *summary;
-    int (*run)(int argc, char **argv); /* argv[0] is the subcommand name */
+    /* The option table (args.h), with the summary and the run; main.c calls
+     * cli_run_command. */
     const struct cli_spec *spec;
-    /* Unconverted commands: options main.c must leave to them although they
-     * look global (bench --isa). NULL-terminated or NULL. */
+    /* Options main.c must leave to the command although they look global
+     * (bench --isa). NULL-terminated or NULL. */
     const char *const *own;
 } cli_command;
 
-/* Subcommands (one file each: cmd_<name>.c), listed in main.c: the one still
- * parsed by hand, and the specs of the commands on the table parser (args.h). */
-int cmd_bench(int argc, char **argv);
-extern const struct cli_spec cli_spec_eval, cli_spec_perturb, cli_spec_accuracy,
+/* Subcommands (one file each: cmd_<name>.c), listed in main.c: the specs of
+ * the commands on the table parser (args.h). */
+extern const struct cli_spec cli_spec_bench, cli_spec_eval, cli_spec_perturb, cli_spec_accuracy,
     cli_spec_stability, cli_spec_volume, cli_spec_heightmap, cli_spec_render, cli_spec_mesh;
 
 /* ---- messages ---- */

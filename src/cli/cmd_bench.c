@@ -93,9 +93,8 @@ static const cli_opt bench_opts[] = {
 };
 #undef A
 
-/* Declared here, not yet in cli.h / main.c's table (see docs/PERFORMANCE.md and
- * the merge note): the spec gives bench its --help, man page and completion. */
-extern const cli_spec cli_spec_bench;
+static int bench_run(void *args, const char *const *pos, int npos);
+
 const cli_spec cli_spec_bench = {
     .name = "bench",
     .summary = "throughput of every kernel and ISA, 1 and N threads, against peer libraries",
@@ -110,6 +109,7 @@ const cli_spec cli_spec_bench = {
     .opts = bench_opts,
     .args_size = sizeof(bench_args),
     .defaults = bench_defaults,
+    .run = bench_run,
 };
 
 static void json_number(FILE *fp, const char *key, double v)
@@ -212,8 +212,7 @@ static void on_measuring(void *ctx, const bgt_bench_row *r)
         fprintf(stderr, "\rmeasuring %-24s %-8s %3d thr", r->name, r->isa, r->threads);
 }
 
-/* The command once parsed (the shape of main's cli_spec.run: at merge, set
- * `.run = bench_run` in the spec and let main.c's cli_run_command call it). */
+/* The command once parsed (cli_run_command has parsed argv into bench_args). */
 static int bench_run(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -260,13 +259,4 @@ static int bench_run(void *args, const char *const *pos, int npos)
     if (fflush(stdout) != 0 || ferror(stdout))
         return cli_fail(CMD, "cannot write the results: %s", strerror(errno));
     return CLI_OK;
-}
-
-int cmd_bench(int argc, char **argv)
-{
-    bench_args a;
-    int rc = cli_args_parse(&cli_spec_bench, argc, argv, &a, NULL, NULL);
-    if (rc)
-        return rc == CLI_HELP ? CLI_OK : rc;
-    return bench_run(&a, NULL, 0);
 }

@@ -13,20 +13,19 @@
  * line in the matching block here. */
 static const char *const bench_own[] = {"--isa", NULL};
 static const cli_command commands[] = {
-    {"eval", NULL, NULL, &cli_spec_eval, NULL},
-    {"perturb", NULL, NULL, &cli_spec_perturb, NULL},
+    {"eval", &cli_spec_eval, NULL},
+    {"perturb", &cli_spec_perturb, NULL},
     /* Core commands without the I/O shim (bench, accuracy, stability) go here. */
-    {"bench", "throughput of every kernel and ISA, 1 and N threads, against peer libraries", cmd_bench,
-     NULL, bench_own},
-    {"accuracy", NULL, NULL, &cli_spec_accuracy, NULL},
-    {"stability", NULL, NULL, &cli_spec_stability, NULL},
+    {"bench", &cli_spec_bench, bench_own},
+    {"accuracy", &cli_spec_accuracy, NULL},
+    {"stability", &cli_spec_stability, NULL},
 #if BG_HAVE_TOOLS
     /* Commands that need OpenImageIO / OpenVDB / assimp (render, mesh, volume, ...)
      * go here. */
-    {"volume", NULL, NULL, &cli_spec_volume, NULL},
-    {"heightmap", NULL, NULL, &cli_spec_heightmap, NULL},
-    {"render", NULL, NULL, &cli_spec_render, NULL},
-    {"mesh", NULL, NULL, &cli_spec_mesh, NULL},
+    {"volume", &cli_spec_volume, NULL},
+    {"heightmap", &cli_spec_heightmap, NULL},
+    {"render", &cli_spec_render, NULL},
+    {"mesh", &cli_spec_mesh, NULL},
 #endif
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
@@ -51,7 +50,7 @@ static void main_help(FILE *fp)
           fp);
     for (size_t i = 0; i < n_commands; i++)
         fprintf(fp, "  %-12s %s\n", commands[i].name,
-                commands[i].spec ? commands[i].spec->summary : commands[i].summary);
+                commands[i].spec->summary);
     fputs("\n"
           "Global options (anywhere on the command line, before a `--`):\n"
           "  --isa NAME    run the SIMD kernels at ISA level NAME (scalar, sse2, avx2,\n"
@@ -187,10 +186,9 @@ static int owns(const cli_command *c, const char *arg)
     return 0;
 }
 
-/* The command's argv without the global options; for a command without an
- * option table (today only bench, being converted), "--name=value" becomes
- * "--name" "value". Up to `--`, after which every argument is left as it is.
- * Returns the new argc; out has room for 2 * argc + 2. */
+/* The command's argv without the global options, up to `--`, after which
+ * every argument is left as it is. Returns the new argc; out has room for
+ * 2 * argc + 2. */
 static int command_argv(const cli_command *c, int argc, char **argv, char **out,
                         const char **isa, int *rc)
 {
@@ -216,13 +214,6 @@ static int command_argv(const cli_command *c, int argc, char **argv, char **out,
             if (g)
                 continue;
         }
-        char *eq = a[1] == '-' ? strchr(a, '=') : NULL;
-        if (!c->spec && eq) {
-            *eq = '\0';
-            out[n++] = a;
-            out[n++] = eq + 1;
-            continue;
-        }
         out[n++] = a;
     }
     out[n] = NULL;
@@ -239,8 +230,7 @@ static int completion(const char *shell)
     size_t ns = 0;
     for (size_t k = 0; k < n_commands; k++) {
         names[k] = commands[k].name;
-        if (commands[k].spec)
-            specs[ns++] = commands[k].spec;
+        specs[ns++] = commands[k].spec;
     }
     if (shell && strcmp(shell, "bash") == 0)
         cli_args_completion_bash(stdout, specs, ns, names, n_commands, global_opt_words);
@@ -262,11 +252,10 @@ static void main_man(FILE *fp)
     main_help(fp);
     fputs(".fi\n.SH SEE ALSO\n", fp);
     int first = 1;
-    for (size_t k = 0; k < n_commands; k++)
-        if (commands[k].spec) {
-            fprintf(fp, "%s.BR bumpgrad\\-%s (1)", first ? "" : ",\n", commands[k].name);
-            first = 0;
-        }
+    for (size_t k = 0; k < n_commands; k++) {
+        fprintf(fp, "%s.BR bumpgrad\\-%s (1)", first ? "" : ",\n", commands[k].name);
+        first = 0;
+    }
     fputc('\n', fp);
 }
 
@@ -279,9 +268,6 @@ static int man(const char *name)
     const cli_command *c = find_command(name);
     if (!c)
         return unknown_command(name);
-    if (!c->spec)
-        return cli_usage_error(NULL, "man: %s has no generated page yet (see bumpgrad %s --help)",
-                               name, name);
     cli_args_man(c->spec, stdout, bg_version_string());
     return CLI_OK;
 }
@@ -344,7 +330,7 @@ static int dispatch(int argc, char **argv)
         return rc;
     }
     if (c) {
-        rc = c->spec ? cli_run_command(c->spec, cargc, cargv) : c->run(cargc, cargv);
+        rc = cli_run_command(c->spec, cargc, cargv);
         free(cargv);
         return rc;
     }
@@ -370,12 +356,8 @@ static int dispatch(int argc, char **argv)
     c = find_command(argv[i + 1]);
     if (!c)
         return unknown_command(argv[i + 1]);
-    if (c->spec) {
-        cli_args_help(c->spec, stdout);
-        return CLI_OK;
-    }
-    char *help_argv[] = {(char *)c->name, (char *)"--help", NULL};
-    return c->run(2, help_argv);
+    cli_args_help(c->spec, stdout);
+    return CLI_OK;
 }
 
 int main(int argc, char **argv)
