@@ -26,7 +26,7 @@ static bg_status read_impl(const char *path, bg_image *out, char *err, size_t er
     // Tell "missing / unreadable" (an I/O problem) from "not an image / corrupt"
     // (a format problem) before OpenImageIO does: its open() reports both as
     // "could not open".
-    bg_status st = bg_io_check_readable(path, err, errlen);
+    bg_status st = bg_io_check_readable(path, nullptr, err, errlen);
     if (st != BG_OK)
         return st;
 
@@ -82,15 +82,8 @@ bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errle
     }
     out->width = out->height = out->channels = 0;
     out->pixels = nullptr;
-    try {
-        return read_impl(path, out, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "'%s': out of memory", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "'%s': %s", path, e.what());
-        return BG_ERR_FORMAT;
-    }
+    return bg_io_guard("'" + std::string(path) + "'", "out of memory", "", BG_ERR_FORMAT, err,
+                       errlen, [&] { return read_impl(path, out, err, errlen); });
 }
 
 // IEC 61966-2-1 encoding of a linear value; NaN maps to 0 so that a display
@@ -227,15 +220,8 @@ bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type ty
                         img->width, img->height, img->channels);
         return BG_ERR_INVALID_ARGUMENT;
     }
-    try {
-        return write_impl(path, img, type, srgb, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "cannot write '%s': out of memory", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, e.what());
-        return BG_ERR_IO;
-    }
+    return bg_io_guard("cannot write '" + std::string(path) + "'", "out of memory", "", BG_ERR_IO,
+                       err, errlen, [&] { return write_impl(path, img, type, srgb, err, errlen); });
 }
 
 static bg_status draw_text_impl(bg_image *img, int x, int y, const char *text, const float rgb[3],
@@ -280,13 +266,6 @@ bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, cons
         bg_io_set_error(err, errlen, "bg_image_draw_text: bad image or font size");
         return BG_ERR_INVALID_ARGUMENT;
     }
-    try {
-        return draw_text_impl(img, x, y, text, rgb, size, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "cannot draw text: out of memory");
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "cannot draw text: %s", e.what());
-        return BG_ERR_IO;
-    }
+    return bg_io_guard("cannot draw text", "out of memory", "", BG_ERR_IO, err, errlen,
+                       [&] { return draw_text_impl(img, x, y, text, rgb, size, err, errlen); });
 }
