@@ -240,6 +240,24 @@ bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type ty
     return f ? f(path, img, type, srgb, err, errlen) : unavailable("bg_image_write", err, errlen);
 }
 
+bg_status bg_image_read_as(const char *path, const char *format, bg_image *out, char *err,
+                           size_t errlen)
+{
+    bg_status (*f)(const char *, const char *, bg_image *, char *, size_t);
+    GET(f, "bg_image_read_as", 1);
+    return f ? f(path, format, out, err, errlen) : unavailable("bg_image_read_as", err, errlen);
+}
+
+bg_status bg_image_write_as(const char *path, const char *format, const bg_image *img,
+                            bg_pixel_type type, int srgb, char *err, size_t errlen)
+{
+    bg_status (*f)(const char *, const char *, const bg_image *, bg_pixel_type, int, char *,
+                   size_t);
+    GET(f, "bg_image_write_as", 1);
+    return f ? f(path, format, img, type, srgb, err, errlen)
+             : unavailable("bg_image_write_as", err, errlen);
+}
+
 bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, const float rgb[3],
                              int size, char *err, size_t errlen)
 {
