@@ -37,8 +37,23 @@ BG_API bg_status bg_image_alloc(bg_image *img, int width, int height, int channe
 BG_API void bg_image_free(bg_image *img);
 
 /** Read any format OpenImageIO reads. On failure returns BG_ERR_IO or BG_ERR_FORMAT
- *  and writes a message naming the file into err (errlen bytes, may be 0). */
+ *  and writes a message naming the file into err (errlen bytes, may be 0).
+ *  `path` "-" is standard input, as for bg_image_read_as with no format. */
 BG_API bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen);
+
+/** bg_image_read with the reader chosen by `format` (an OpenImageIO format name
+ *  or extension: "png", "exr", "tif", ...; NULL or "" = by the file's extension
+ *  and content, as bg_image_read).
+ *  `path` "-" reads standard input to its end into memory (an image reader
+ *  seeks), checked against the allocation cap BUMPGRAD_MAX_MB before the buffer
+ *  grows past it (BG_ERR_INVALID_ARGUMENT), then decodes it through
+ *  OpenImageIO's IOMemReader; with no format the first reader that accepts the
+ *  content (its magic) is used. OpenImageIO 2.4 reads PNG, JPEG, TIFF, OpenEXR,
+ *  HDR, PNM, TGA, BMP, GIF, WebP, DPX, ... from memory, not e.g. SGI, FITS or
+ *  RLA: such a format named with "-" is BG_ERR_INVALID_ARGUMENT naming it.
+ *  Unknown format name: BG_ERR_INVALID_ARGUMENT. Not thread-safe for "-". */
+BG_API bg_status bg_image_read_as(const char *path, const char *format, bg_image *out, char *err,
+                                  size_t errlen);
 
 /** Write an image; the format comes from the extension (.png, .exr, .tif, ...).
  *  `srgb` nonzero: pixel values are linear and are encoded with the sRGB transfer
@@ -48,6 +63,18 @@ BG_API bg_status bg_image_read(const char *path, bg_image *out, char *err, size_
  *  one. Unwritable path: BG_ERR_IO with a message. */
 BG_API bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
                                 char *err, size_t errlen);
+
+/** bg_image_write with the writer chosen by `format` (an OpenImageIO format name
+ *  or extension: "png", "exr", "tif", ...; NULL or "" = by the extension).
+ *  `path` "-" is standard output: the image is encoded in memory (OpenImageIO's
+ *  IOVecOutput), PNG when `format` is NULL, and written out in one piece only
+ *  once it is complete. A short write or a closed pipe (EPIPE: SIGPIPE is
+ *  blocked for the write) is BG_ERR_IO with a message; a terminal as standard
+ *  output, or a format OpenImageIO 2.4 cannot write to memory (e.g. SGI, FITS,
+ *  RLA, ICO, HEIF), is BG_ERR_INVALID_ARGUMENT naming it, before anything is
+ *  written. Flushes stdio's stdout first. Not thread-safe for "-". */
+BG_API bg_status bg_image_write_as(const char *path, const char *format, const bg_image *img,
+                                   bg_pixel_type type, int srgb, char *err, size_t errlen);
 
 /** Draw a line of text (UTF-8) into `img` with OpenImageIO's FreeType renderer,
  *  for labelled panels. (x, y) is the top-left corner of the text in pixels,

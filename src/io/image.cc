@@ -9,11 +9,24 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include <OpenImageIO/filesystem.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <pthread.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "io_util.h"
 #include "common/tool.h"
@@ -21,26 +34,174 @@
 using namespace OIIO;
 
 
-static bg_status read_impl(const char *path, bg_image *out, char *err, size_t errlen)
-{
-    // Tell "missing / unreadable" (an I/O problem) from "not an image / corrupt"
-    // (a format problem) before OpenImageIO does: its open() reports both as
-    // "could not open".
-    bg_status st = bg_io_check_readable(path, err, errlen);
-    if (st != BG_OK)
-        return st;
+// "-" names the standard streams (as it does for the CSV and PLY tools).
+static bool is_stream(const char *path) { return std::strcmp(path, "-") == 0; }
 
-    auto in = ImageInput::open(path);
-    if (!in) {
-        std::string msg = OIIO::geterror();
-        bg_io_set_error(err, errlen, "'%s': not a readable image (%s)", path,
-                        msg.empty() ? "unknown format" : msg.c_str());
+// The name an image goes by in messages.
+static std::string display_name(const char *path, bool output)
+{
+    if (is_stream(path))
+        return output ? "<stdout>" : "<stdin>";
+    return std::string("'") + path + "'";
+}
+
+// Standard input, read to its end into memory (an image reader needs to seek).
+// The buffer is checked against the one allocation cap (BUMPGRAD_MAX_MB) before
+// it grows, so an endless pipe is refused at the cap instead of filling memory.
+static bg_status read_stdin(std::vector<unsigned char> *buf, char *err, size_t errlen)
+{
+    size_t used = 0;
+    for (;;) {
+        if (used == buf->size()) {
+            const size_t want = std::max<size_t>(size_t(1) << 16, 2 * buf->size());
+            bgt_err cap_err;
+            if (bgt_check_alloc(static_cast<double>(want), "reading an image from standard input",
+                                &cap_err) != BG_OK) {
+                const size_t cap = bgt_memory_cap();
+                if (used >= cap) {
+                    bg_io_set_error(err, errlen, "<stdin>: more than %zu bytes: %s", used,
+                                    cap_err.msg);
+                    return BG_ERR_INVALID_ARGUMENT;
+                }
+                buf->resize(cap); // the last growth stops at the cap itself
+            } else {
+                buf->resize(want);
+            }
+        }
+        const size_t want = buf->size() - used;
+        const size_t k = bg_io_read_all(0, buf->data() + used, want);
+        used += k;
+        if (k < want && errno != 0) {
+            bg_io_set_error(err, errlen, "<stdin>: %s", std::strerror(errno));
+            return BG_ERR_IO;
+        }
+        if (k < want)
+            break; // end of input
+    }
+    buf->resize(used);
+    if (used == 0) {
+        bg_io_set_error(err, errlen, "<stdin>: empty input, no image in it");
         return BG_ERR_FORMAT;
+    }
+    return BG_OK;
+}
+
+// Formats OpenImageIO lists that must not be guessed for unknown content:
+// "null" opens any name without reading it, "term" is an output only.
+static bool guessable(const std::string &fmt) { return fmt != "null" && fmt != "term"; }
+
+// An ImageInput for `format` (a format name or extension), or an error naming it.
+// For the stream, only readers that take an IOProxy (OpenImageIO 2.4: PNG, JPEG,
+// TIFF, OpenEXR, HDR, PNM, TGA, BMP, GIF, WebP, DPX, ...; not e.g. SGI, FITS, RLA).
+static bg_status create_input(const char *format, bool stream, std::unique_ptr<ImageInput> *in,
+                              char *err, size_t errlen)
+{
+    *in = ImageInput::create(format);
+    if (!*in) {
+        (void)OIIO::geterror();
+        bg_io_set_error(err, errlen, "unknown image format '%s' (use png, exr, tif, ...)", format);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    if (stream && !(*in)->supports("ioproxy")) {
+        bg_io_set_error(err, errlen,
+                        "<stdin>: OpenImageIO 2.4 cannot read the '%s' format from a stream; "
+                        "read it from a file instead", (*in)->format_name());
+        in->reset();
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    return BG_OK;
+}
+
+// Opens standard input's bytes (`mem`) as `format`, or with format NULL as the
+// first stream-capable reader that accepts the content (each checks its magic).
+static bg_status open_stream(const std::vector<unsigned char> &mem, const char *format,
+                             std::unique_ptr<Filesystem::IOMemReader> *proxy,
+                             std::unique_ptr<ImageInput> *in, char *err, size_t errlen)
+{
+    std::vector<std::string> formats;
+    if (format) {
+        formats.emplace_back(format);
+    } else {
+        std::string list;
+        OIIO::getattribute("input_format_list", list);
+        for (auto f : Strutil::splitsv(list, ","))
+            if (guessable(std::string(f)))
+                formats.emplace_back(f);
+    }
+    std::string why;
+    for (const std::string &f : formats) {
+        std::unique_ptr<ImageInput> cand;
+        bg_status st = create_input(f.c_str(), true, &cand, err, errlen);
+        if (st != BG_OK) {
+            if (format)
+                return st;
+            continue; // a reader without IOProxy support: not a candidate
+        }
+        auto p = std::make_unique<Filesystem::IOMemReader>(mem.data(), mem.size());
+        cand->set_ioproxy(p.get());
+        ImageSpec spec;
+        if (cand->open("<stdin>", spec)) {
+            *proxy = std::move(p);
+            *in = std::move(cand);
+            return BG_OK;
+        }
+        if (format)
+            why = cand->geterror();
+    }
+    (void)OIIO::geterror();
+    if (format)
+        bg_io_set_error(err, errlen, "<stdin>: not a readable %s image (%s)", format,
+                        why.empty() ? "wrong format" : why.c_str());
+    else
+        bg_io_set_error(err, errlen,
+                        "<stdin>: not an image in a format that can be read from a stream "
+                        "(PNG, JPEG, TIFF, OpenEXR, HDR, PNM, TGA, BMP, ...)");
+    return BG_ERR_FORMAT;
+}
+
+static bg_status read_impl(const char *path, const char *format, bg_image *out, char *err,
+                           size_t errlen)
+{
+    const bool stream = is_stream(path);
+    const std::string name = display_name(path, false);
+    std::vector<unsigned char> mem;
+    std::unique_ptr<Filesystem::IOMemReader> proxy; // outlives `in`, which reads through it
+    std::unique_ptr<ImageInput> in;
+    bg_status st;
+    if (stream) {
+        st = read_stdin(&mem, err, errlen);
+        if (st == BG_OK)
+            st = open_stream(mem, format, &proxy, &in, err, errlen);
+        if (st != BG_OK)
+            return st;
+    } else {
+        // Tell "missing / unreadable" (an I/O problem) from "not an image /
+        // corrupt" (a format problem) before OpenImageIO does: its open()
+        // reports both as "could not open".
+        st = bg_io_check_readable(path, nullptr, err, errlen);
+        if (st != BG_OK)
+            return st;
+        if (format) {
+            st = create_input(format, false, &in, err, errlen);
+            if (st != BG_OK)
+                return st;
+            ImageSpec spec;
+            if (!in->open(path, spec))
+                in.reset();
+        } else {
+            in = ImageInput::open(path);
+        }
+        if (!in) {
+            std::string msg = OIIO::geterror();
+            bg_io_set_error(err, errlen, "%s: not a readable image (%s)", name.c_str(),
+                            msg.empty() ? "unknown format" : msg.c_str());
+            return BG_ERR_FORMAT;
+        }
     }
     const ImageSpec &spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
-        bg_io_set_error(err, errlen, "'%s': unsupported image shape %dx%dx%d with %d channels",
-                        path, spec.width, spec.height, spec.depth, spec.nchannels);
+        bg_io_set_error(err, errlen, "%s: unsupported image shape %dx%dx%d with %d channels",
+                        name.c_str(), spec.width, spec.height, spec.depth, spec.nchannels);
         return BG_ERR_FORMAT;
     }
     // The declared size decides the allocation: check it against the one cap
@@ -49,21 +210,21 @@ static bg_status read_impl(const char *path, bg_image *out, char *err, size_t er
     bgt_err cap_err;
     if (bgt_check_alloc(2.0 * spec.width * spec.height * spec.nchannels * sizeof(float),
                         "reading the image", &cap_err) != BG_OK) {
-        bg_io_set_error(err, errlen, "'%s': %dx%d with %d channels: %s", path, spec.width,
+        bg_io_set_error(err, errlen, "%s: %dx%d with %d channels: %s", name.c_str(), spec.width,
                         spec.height, spec.nchannels, cap_err.msg);
         return BG_ERR_FORMAT;
     }
     bg_image img;
     st = bg_image_alloc(&img, spec.width, spec.height, spec.nchannels);
     if (st != BG_OK) {
-        bg_io_set_error(err, errlen, "'%s': %dx%d image with %d channels is too large", path,
-                        spec.width, spec.height, spec.nchannels);
+        bg_io_set_error(err, errlen, "%s: %dx%d image with %d channels is too large",
+                        name.c_str(), spec.width, spec.height, spec.nchannels);
         return st;
     }
     // Integer formats convert to [0, 1] here (OIIO's normalized conversion).
     if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, img.pixels)) {
         std::string msg = in->geterror();
-        bg_io_set_error(err, errlen, "'%s': corrupt or truncated image (%s)", path,
+        bg_io_set_error(err, errlen, "%s: corrupt or truncated image (%s)", name.c_str(),
                         msg.empty() ? "read failed" : msg.c_str());
         bg_image_free(&img);
         return BG_ERR_FORMAT;
@@ -73,7 +234,10 @@ static bg_status read_impl(const char *path, bg_image *out, char *err, size_t er
     return BG_OK;
 }
 
-bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen)
+// Both entry points call this directly: the module's own calls must not go
+// through whichever bg_image_read_as the process resolves first (a loader's).
+static bg_status read_guarded(const char *path, const char *format, bg_image *out, char *err,
+                              size_t errlen)
 {
     bg_io_set_error(err, errlen, "%s", "");
     if (!path || !out) {
@@ -82,15 +246,21 @@ bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errle
     }
     out->width = out->height = out->channels = 0;
     out->pixels = nullptr;
-    try {
-        return read_impl(path, out, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "'%s': out of memory", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "'%s': %s", path, e.what());
-        return BG_ERR_FORMAT;
-    }
+    if (format && !*format)
+        format = nullptr;
+    return bg_io_guard(display_name(path, false), "out of memory", "", BG_ERR_FORMAT, err, errlen,
+                       [&] { return read_impl(path, format, out, err, errlen); });
+}
+
+bg_status bg_image_read_as(const char *path, const char *format, bg_image *out, char *err,
+                           size_t errlen)
+{
+    return read_guarded(path, format, out, err, errlen);
+}
+
+bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen)
+{
+    return read_guarded(path, nullptr, out, err, errlen);
 }
 
 // IEC 61966-2-1 encoding of a linear value; NaN maps to 0 so that a display
@@ -139,26 +309,92 @@ static bool read_back_ok(const std::string &tmp, const bg_image *img, std::strin
     return ok;
 }
 
-static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
-                            char *err, size_t errlen)
+// Standard output gets the finished image in one piece. SIGPIPE is blocked
+// for the write, so a reader that went away (`| head -c 10`) is an EPIPE
+// error reported like any other, not a process killed by a signal; a SIGPIPE
+// the write raised is taken off this thread before the mask is restored.
+static bg_status write_stdout(const std::vector<unsigned char> &buf, char *err, size_t errlen)
+{
+    std::fflush(stdout); // whatever the caller printed before comes first
+    sigset_t pipe_set, old;
+    sigemptyset(&pipe_set);
+    sigaddset(&pipe_set, SIGPIPE);
+    pthread_sigmask(SIG_BLOCK, &pipe_set, &old);
+    const size_t done = bg_io_write_all(1, buf.data(), buf.size());
+    int e = done < buf.size() ? (errno ? errno : EIO) : 0;
+    // A regular file as standard output: make a full disk show up here.
+    struct stat st;
+    if (!e && ::fstat(1, &st) == 0 && S_ISREG(st.st_mode) && ::fsync(1) != 0 && errno != EINVAL)
+        e = errno;
+    if (e == EPIPE && !sigismember(&old, SIGPIPE)) {
+        const struct timespec zero = {0, 0};
+        while (sigtimedwait(&pipe_set, nullptr, &zero) > 0) {
+        }
+    }
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    if (e) {
+        bg_io_set_error(err, errlen, "cannot write the image to <stdout> (%s, %zu of %zu bytes "
+                        "written)", std::strerror(e), done, buf.size());
+        return BG_ERR_IO;
+    }
+    return BG_OK;
+}
+
+// The ImageOutput for `path`: by `format` if given (a format name or
+// extension), else by the path's extension; standard output defaults to PNG
+// and needs a writer that takes an IOProxy (OpenImageIO 2.4: not SGI, FITS,
+// RLA, ICO, HEIF, ...).
+static bg_status create_output(const char *path, const char *format,
+                               std::unique_ptr<ImageOutput> *out, char *err, size_t errlen)
+{
+    const bool stream = is_stream(path);
+    const char *by = format ? format : stream ? "png" : path;
+    *out = ImageOutput::create(by);
+    if (!*out) {
+        (void)OIIO::geterror();
+        if (format)
+            bg_io_set_error(err, errlen, "%s: unknown image format '%s' (use png, exr, tif, ...)",
+                            display_name(path, true).c_str(), format);
+        else
+            bg_io_set_error(err, errlen,
+                            "'%s': no image format for this file extension "
+                            "(use .png, .exr, .tif, ...)",
+                            path);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    if (stream && !(*out)->supports("ioproxy")) {
+        bg_io_set_error(err, errlen,
+                        "<stdout>: OpenImageIO 2.4 cannot write the '%s' format to a stream; "
+                        "write it to a file, or use png, exr, tif, jpg, hdr, ppm, tga or bmp",
+                        (*out)->format_name());
+        out->reset();
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    if (stream && ::isatty(1)) {
+        bg_io_set_error(err, errlen, "<stdout> is a terminal: not writing a %s image to it "
+                        "(redirect it to a file or a pipe)", (*out)->format_name());
+        out->reset();
+        return BG_ERR_INVALID_ARGUMENT;
+    }
+    return BG_OK;
+}
+
+static bg_status write_impl(const char *path, const char *format, const bg_image *img,
+                            bg_pixel_type type, int srgb, char *err, size_t errlen)
 {
     TypeDesc td = pixel_typedesc(type);
     if (td == TypeDesc::UNKNOWN) {
-        bg_io_set_error(err, errlen, "'%s': unknown pixel type %d", path, static_cast<int>(type));
+        bg_io_set_error(err, errlen, "%s: unknown pixel type %d", display_name(path, true).c_str(),
+                        static_cast<int>(type));
         return BG_ERR_INVALID_ARGUMENT;
     }
-    // The writer is chosen from the final path's extension, so an unknown
-    // extension is refused before any file is created; it then writes to the
-    // temporary name, which keeps that extension.
-    auto out = ImageOutput::create(path);
-    if (!out) {
-        (void)OIIO::geterror();
-        bg_io_set_error(err, errlen,
-                        "'%s': no image format for this file extension "
-                        "(use .png, .exr, .tif, ...)",
-                        path);
-        return BG_ERR_INVALID_ARGUMENT;
-    }
+    // The writer is chosen before any file is created (an unknown format is
+    // refused first); it then writes to the temporary name, which keeps the
+    // extension, or to memory for standard output.
+    std::unique_ptr<ImageOutput> out;
+    bg_status st = create_output(path, format, &out, err, errlen);
+    if (st != BG_OK)
+        return st;
 
     const size_t count = static_cast<size_t>(img->width) * static_cast<size_t>(img->height) *
                          static_cast<size_t>(img->channels);
@@ -176,10 +412,18 @@ static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type
         src = encoded.data();
     }
 
+    const bool stream = is_stream(path);
     std::string tmp;
-    bg_status st = bg_io_make_temp(path, &tmp, err, errlen);
-    if (st != BG_OK)
-        return st;
+    std::unique_ptr<Filesystem::IOVecOutput> mem;
+    if (stream) {
+        mem = std::make_unique<Filesystem::IOVecOutput>();
+        out->set_ioproxy(mem.get());
+        tmp = "<stdout>";
+    } else {
+        st = bg_io_make_temp(path, &tmp, err, errlen);
+        if (st != BG_OK)
+            return st;
+    }
 
     ImageSpec spec(img->width, img->height, img->channels, td);
     if (srgb)
@@ -198,12 +442,16 @@ static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type
     if (!ok) {
         std::string msg = out->geterror();
         out.reset(); // closes the temporary file before it is removed
-        bg_io_set_error(err, errlen, "cannot write '%s' (%s)", path,
+        bg_io_set_error(err, errlen, "cannot write %s (%s)", display_name(path, true).c_str(),
                         msg.empty() ? "write failed" : msg.c_str());
-        bg_io_discard_temp(tmp);
+        if (!stream)
+            bg_io_discard_temp(tmp);
         return BG_ERR_IO;
     }
     out.reset();
+    // In memory nothing can be short; the bytes go out in one piece.
+    if (stream)
+        return write_stdout(mem->buffer(), err, errlen);
     std::string why;
     if (!read_back_ok(tmp, img, &why)) {
         bg_io_set_error(err, errlen, "cannot write '%s' (the written file does not read back: %s)",
@@ -214,28 +462,36 @@ static bg_status write_impl(const char *path, const bg_image *img, bg_pixel_type
     return bg_io_commit_temp(tmp, path, err, errlen);
 }
 
-bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
-                         char *err, size_t errlen)
+static bg_status write_guarded(const char *path, const char *format, const bg_image *img,
+                               bg_pixel_type type, int srgb, char *err, size_t errlen)
 {
     bg_io_set_error(err, errlen, "%s", "");
     if (!path || !img || !img->pixels) {
         bg_io_set_error(err, errlen, "bg_image_write: NULL argument");
         return BG_ERR_NULL_POINTER;
     }
+    const std::string name = display_name(path, true);
     if (img->width <= 0 || img->height <= 0 || img->channels <= 0) {
-        bg_io_set_error(err, errlen, "'%s': empty image %dx%d with %d channels", path,
+        bg_io_set_error(err, errlen, "%s: empty image %dx%d with %d channels", name.c_str(),
                         img->width, img->height, img->channels);
         return BG_ERR_INVALID_ARGUMENT;
     }
-    try {
-        return write_impl(path, img, type, srgb, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "cannot write '%s': out of memory", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, e.what());
-        return BG_ERR_IO;
-    }
+    if (format && !*format)
+        format = nullptr;
+    return bg_io_guard("cannot write " + name, "out of memory", "", BG_ERR_IO, err, errlen,
+                       [&] { return write_impl(path, format, img, type, srgb, err, errlen); });
+}
+
+bg_status bg_image_write_as(const char *path, const char *format, const bg_image *img,
+                            bg_pixel_type type, int srgb, char *err, size_t errlen)
+{
+    return write_guarded(path, format, img, type, srgb, err, errlen);
+}
+
+bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
+                         char *err, size_t errlen)
+{
+    return write_guarded(path, nullptr, img, type, srgb, err, errlen);
 }
 
 static bg_status draw_text_impl(bg_image *img, int x, int y, const char *text, const float rgb[3],
@@ -280,13 +536,6 @@ bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, cons
         bg_io_set_error(err, errlen, "bg_image_draw_text: bad image or font size");
         return BG_ERR_INVALID_ARGUMENT;
     }
-    try {
-        return draw_text_impl(img, x, y, text, rgb, size, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "cannot draw text: out of memory");
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "cannot draw text: %s", e.what());
-        return BG_ERR_IO;
-    }
+    return bg_io_guard("cannot draw text", "out of memory", "", BG_ERR_IO, err, errlen,
+                       [&] { return draw_text_impl(img, x, y, text, rgb, size, err, errlen); });
 }

@@ -212,6 +212,17 @@ static bg_status unavailable(const char *name, char *err, size_t errlen)
             memcpy(&fp, &p_, sizeof fp);          \
     } while (0)
 
+/* The release calls (free, close) of an object the module made: without the
+ * module loaded no such object can exist, so there is nothing to do. */
+#define FORWARD_RELEASE(name, type)                \
+    void name(type *obj)                           \
+    {                                              \
+        void (*f)(type *);                         \
+        GET(f, #name, 0);                          \
+        if (f)                                     \
+            f(obj);                                \
+    }
+
 /* ---- images: allocation needs no module ---------------------------------- */
 
 bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen)
@@ -227,6 +238,24 @@ bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type ty
     bg_status (*f)(const char *, const bg_image *, bg_pixel_type, int, char *, size_t);
     GET(f, "bg_image_write", 1);
     return f ? f(path, img, type, srgb, err, errlen) : unavailable("bg_image_write", err, errlen);
+}
+
+bg_status bg_image_read_as(const char *path, const char *format, bg_image *out, char *err,
+                           size_t errlen)
+{
+    bg_status (*f)(const char *, const char *, bg_image *, char *, size_t);
+    GET(f, "bg_image_read_as", 1);
+    return f ? f(path, format, out, err, errlen) : unavailable("bg_image_read_as", err, errlen);
+}
+
+bg_status bg_image_write_as(const char *path, const char *format, const bg_image *img,
+                            bg_pixel_type type, int srgb, char *err, size_t errlen)
+{
+    bg_status (*f)(const char *, const char *, const bg_image *, bg_pixel_type, int, char *,
+                   size_t);
+    GET(f, "bg_image_write_as", 1);
+    return f ? f(path, format, img, type, srgb, err, errlen)
+             : unavailable("bg_image_write_as", err, errlen);
 }
 
 bg_status bg_image_draw_text(bg_image *img, int x, int y, const char *text, const float rgb[3],
@@ -285,13 +314,7 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
     return f ? f(w, path, err, errlen) : unavailable("bg_vdb_writer_write", err, errlen);
 }
 
-void bg_vdb_writer_free(bg_vdb_writer *w)
-{
-    void (*f)(bg_vdb_writer *);
-    GET(f, "bg_vdb_writer_free", 0);
-    if (f)
-        f(w);
-}
+FORWARD_RELEASE(bg_vdb_writer_free, bg_vdb_writer)
 
 bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_height **out,
                              char *err, size_t errlen)
@@ -303,13 +326,7 @@ bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_hei
     return f ? f(path, grid_name, out, err, errlen) : unavailable("bg_vdb_height_open", err, errlen);
 }
 
-void bg_vdb_height_close(bg_vdb_height *h)
-{
-    void (*f)(bg_vdb_height *);
-    GET(f, "bg_vdb_height_close", 0);
-    if (f)
-        f(h);
-}
+FORWARD_RELEASE(bg_vdb_height_close, bg_vdb_height)
 
 void bg_vdb_height_get_info(const bg_vdb_height *h, bg_vdb_height_info *info)
 {
@@ -355,11 +372,4 @@ bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh 
     return f ? f(path, format_id, mesh, err, errlen) : unavailable("bg_mesh_export", err, errlen);
 }
 
-void bg_mesh_free(bg_mesh *mesh)
-{
-    /* Without the module loaded no mesh can have come from it: nothing to free. */
-    void (*f)(bg_mesh *);
-    GET(f, "bg_mesh_free", 0);
-    if (f)
-        f(mesh);
-}
+FORWARD_RELEASE(bg_mesh_free, bg_mesh)

@@ -49,7 +49,8 @@ bool bg_io_mul_size(size_t a, size_t b, size_t *out)
     return true;
 }
 
-bg_status bg_io_check_readable(const char *path, char *err, size_t errlen)
+bg_status bg_io_check_readable(const char *path, const char *kind, char *err, size_t errlen,
+                               off_t *size)
 {
     struct stat st;
     if (::stat(path, &st) != 0) {
@@ -57,7 +58,8 @@ bg_status bg_io_check_readable(const char *path, char *err, size_t errlen)
         return BG_ERR_IO;
     }
     if (S_ISDIR(st.st_mode)) {
-        bg_io_set_error(err, errlen, "'%s': is a directory", path);
+        bg_io_set_error(err, errlen, "'%s': is a directory%s%s", path, kind ? ", not a " : "",
+                        kind ? kind : "");
         return BG_ERR_IO;
     }
     // A FIFO or device would block the open (and the readers need to seek).
@@ -72,8 +74,35 @@ bg_status bg_io_check_readable(const char *path, char *err, size_t errlen)
         return BG_ERR_IO;
     }
     ::close(fd);
+    if (size)
+        *size = st.st_size;
     return BG_OK;
 }
+
+// One loop for both directions: EINTR is retried, a short transfer continued.
+static size_t transfer(int fd, char *p, size_t n, bool out)
+{
+    size_t done = 0;
+    while (done < n) {
+        const ssize_t k = out ? ::write(fd, p + done, n - done) : ::read(fd, p + done, n - done);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0) {
+            if (k == 0)
+                errno = 0;
+            break;
+        }
+        done += static_cast<size_t>(k);
+    }
+    return done;
+}
+
+size_t bg_io_write_all(int fd, const void *p, size_t n)
+{
+    return transfer(fd, const_cast<char *>(static_cast<const char *>(p)), n, true);
+}
+
+size_t bg_io_read_all(int fd, void *p, size_t n) { return transfer(fd, static_cast<char *>(p), n, false); }
 
 // The temporary-file protocol is src/tools/common/safe_file.c, the same code
 // the C tools use (compiled into this module too): one rule for the new

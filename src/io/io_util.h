@@ -6,6 +6,8 @@
 #define BUMPGRAD_IO_UTIL_H
 
 #include <cstddef>
+#include <exception>
+#include <new>
 #include <string>
 #include <sys/types.h>
 
@@ -23,16 +25,6 @@
 #else
 #define BG_IO_PRINTF(f, a)
 #define BG_IO_HIDDEN
-/* ---- child processes (the mesh import, the VDB probe) ----
- * Address-space cap for a child reading `path`: the mappings the process has
- * now plus max(2 GiB, 256 x the file size), or env_name in MiB (0 = none). */
-BG_IO_HIDDEN size_t bg_io_child_memory_cap(const char *path, const char *env_name);
-/* Seconds a child may run: BUMPGRAD_CHILD_TIMEOUT, default 60. */
-BG_IO_HIDDEN unsigned bg_io_child_timeout(void);
-/* In the child, right after fork: die with the parent (PR_SET_PDEATHSIG),
- * cap the address space (0 = no cap), and end by SIGALRM after timeout_s. */
-BG_IO_HIDDEN void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s);
-
 #endif
 
 /* printf into err (errlen may be 0, err may be NULL). */
@@ -43,8 +35,54 @@ BG_IO_HIDDEN void bg_io_set_error(char *err, size_t errlen, const char *fmt, ...
 BG_IO_HIDDEN bool bg_io_mul_size(size_t a, size_t b, size_t *out);
 
 /* BG_OK if `path` is an existing regular file we may read, else BG_ERR_IO with
- * a message naming it (missing, a directory, permission denied). */
-BG_IO_HIDDEN bg_status bg_io_check_readable(const char *path, char *err, size_t errlen);
+ * a message naming it (missing, a directory, permission denied). `kind`, if not
+ * NULL, names what was expected ("is a directory, not a mesh file"). The file's
+ * size goes to *size if size is not NULL. */
+BG_IO_HIDDEN bg_status bg_io_check_readable(const char *path, const char *kind, char *err,
+                                            size_t errlen, off_t *size = nullptr);
+
+/* Move all n bytes to or from fd, retrying after EINTR and short transfers.
+ * Returns how many moved: n on success; fewer at end of file or on an error
+ * (then errno is set, or 0 at end of file). */
+BG_IO_HIDDEN size_t bg_io_write_all(int fd, const void *p, size_t n);
+BG_IO_HIDDEN size_t bg_io_read_all(int fd, void *p, size_t n);
+
+/* The one exception barrier of the extern "C" entry points: no C++ exception
+ * may cross into C. Runs body() and turns std::bad_alloc into
+ * BG_ERR_OUT_OF_MEMORY ("PREFIX: OOM"), any other exception into `other`
+ * ("PREFIX: what()", or "PREFIX: LABEL (what())" when label is not empty, or
+ * "PREFIX: LABEL" for a non-standard exception); cleanup() runs first on
+ * either path (drop a temporary, free a half-made result). */
+template <class Body, class Cleanup>
+bg_status bg_io_guard(const std::string &prefix, const char *oom, const char *label,
+                      bg_status other, char *err, size_t errlen, Body &&body, Cleanup &&cleanup)
+{
+    try {
+        return body();
+    } catch (const std::bad_alloc &) {
+        cleanup();
+        bg_io_set_error(err, errlen, "%s: %s", prefix.c_str(), oom);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &e) {
+        cleanup();
+        if (*label)
+            bg_io_set_error(err, errlen, "%s: %s (%s)", prefix.c_str(), label, e.what());
+        else
+            bg_io_set_error(err, errlen, "%s: %s", prefix.c_str(), e.what());
+        return other;
+    } catch (...) {
+        cleanup();
+        bg_io_set_error(err, errlen, "%s: %s", prefix.c_str(), *label ? label : "unknown error");
+        return other;
+    }
+}
+
+template <class Body>
+bg_status bg_io_guard(const std::string &prefix, const char *oom, const char *label,
+                      bg_status other, char *err, size_t errlen, Body &&body)
+{
+    return bg_io_guard(prefix, oom, label, other, err, errlen, body, [] {});
+}
 
 /* Create an empty, unique temporary file next to `path` that keeps its
  * extension (dir/.name.tmpXXXXXX.ext), so writers that pick the format from

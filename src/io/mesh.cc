@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <new>
 #include <string>
@@ -77,6 +78,31 @@ void collect(const aiScene *scene, const aiNode *node, const aiMatrix4x4 &parent
         collect(scene, node->mChildren[i], m, out, depth + 1);
 }
 
+// v / |v|; v unchanged when its length is 0 or not finite (a degenerate or
+// NaN normal keeps what the file holds, for the caller's sentinel rule).
+aiVector3D unit_if_finite(aiVector3D v)
+{
+    const float len = v.Length();
+    if (len > 0.0f && std::isfinite(len))
+        v /= len;
+    return v;
+}
+
+// One vertex's vector into the mesh's SoA arrays.
+void store(float *x, float *y, float *z, size_t k, const aiVector3D &v)
+{
+    x[k] = v.x;
+    y[k] = v.y;
+    z[k] = v.z;
+}
+
+// The per-vertex arrays of a mesh, in the order the import child sends them:
+// positions, normals, UVs, tangents (absent ones are NULL).
+std::array<float **, 12> vertex_arrays(bg_mesh &m)
+{
+    return {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v, &m.tx, &m.ty, &m.tz, &m.tw};
+}
+
 template <typename T> T *alloc_array(size_t n)
 {
     // calloc checks n * size for overflow itself.
@@ -87,27 +113,11 @@ bg_status precheck(const char *path, char *err, size_t errlen)
 {
     // Tell "missing / unreadable" (I/O) from "not a mesh" (format) before
     // assimp, which reports both as a failed import.
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        bg_io_set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
-        return BG_ERR_IO;
-    }
-    if (S_ISDIR(st.st_mode)) {
-        bg_io_set_error(err, errlen, "'%s': is a directory, not a mesh file", path);
-        return BG_ERR_IO;
-    }
-    // A FIFO or device: the open below would block (and assimp needs to seek).
-    if (!S_ISREG(st.st_mode)) {
-        bg_io_set_error(err, errlen, "'%s': not a regular file (a FIFO or device cannot be read)", path);
-        return BG_ERR_IO;
-    }
-    FILE *probe = std::fopen(path, "rb");
-    if (!probe) {
-        bg_io_set_error(err, errlen, "'%s': %s", path, std::strerror(errno));
-        return BG_ERR_IO;
-    }
-    std::fclose(probe);
-    if (S_ISREG(st.st_mode) && st.st_size == 0) {
+    off_t size = 0;
+    bg_status st = bg_io_check_readable(path, "mesh file", err, errlen, &size);
+    if (st != BG_OK)
+        return st;
+    if (size == 0) {
         bg_io_set_error(err, errlen, "'%s': empty file, no mesh in it", path);
         return BG_ERR_FORMAT;
     }
@@ -278,20 +288,12 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             aiVector3D p = am->mVertices[i];
             if (!in.identity)
                 p = in.transform * p;
-            m.px[base + i] = p.x;
-            m.py[base + i] = p.y;
-            m.pz[base + i] = p.z;
+            store(m.px, m.py, m.pz, base + i, p);
             if (normals) {
                 aiVector3D n = am->mNormals[i];
-                if (!in.identity) {
-                    n = normal_matrix * n;
-                    float len = n.Length();
-                    if (len > 0.0f && std::isfinite(len))
-                        n /= len;
-                }
-                m.nx[base + i] = n.x;
-                m.ny[base + i] = n.y;
-                m.nz[base + i] = n.z;
+                if (!in.identity)
+                    n = unit_if_finite(normal_matrix * n);
+                store(m.nx, m.ny, m.nz, base + i, n);
             }
             if (uvs) {
                 m.u[base + i] = am->mTextureCoords[0][i].x;
@@ -308,12 +310,8 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
                     tg = linear * tg;
                     b = linear * b;
                 }
-                float len = tg.Length();
-                if (len > 0.0f && std::isfinite(len))
-                    tg /= len;
-                m.tx[base + i] = tg.x;
-                m.ty[base + i] = tg.y;
-                m.tz[base + i] = tg.z;
+                tg = unit_if_finite(tg);
+                store(m.tx, m.ty, m.tz, base + i, tg);
                 m.tw[base + i] = ((n ^ tg) * b) < 0.0f ? -1.0f : 1.0f;
             }
         }
@@ -344,21 +342,10 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
 bg_status import_guarded(const char *path, unsigned flags, bg_mesh *out, char *err,
                          size_t errlen)
 {
-    try {
-        return import_scene(path, flags, out, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_mesh_free(out);
-        bg_io_set_error(err, errlen, "'%s': out of memory while loading", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_mesh_free(out);
-        bg_io_set_error(err, errlen, "'%s': not a readable mesh (%s)", path, e.what());
-        return BG_ERR_FORMAT;
-    } catch (...) {
-        bg_mesh_free(out);
-        bg_io_set_error(err, errlen, "'%s': not a readable mesh", path);
-        return BG_ERR_FORMAT;
-    }
+    return bg_io_guard("'" + std::string(path) + "'", "out of memory while loading",
+                       "not a readable mesh", BG_ERR_FORMAT, err, errlen,
+                       [&] { return import_scene(path, flags, out, err, errlen); },
+                       [&] { bg_mesh_free(out); });
 }
 
 // ---- the import in a child process ----
@@ -375,35 +362,9 @@ struct wire_header {
     char err[512];
 };
 
-bool write_all(int fd, const void *p, size_t n)
-{
-    const char *c = static_cast<const char *>(p);
-    while (n) {
-        ssize_t k = write(fd, c, n);
-        if (k < 0 && errno == EINTR)
-            continue;
-        if (k <= 0)
-            return false;
-        c += k;
-        n -= static_cast<size_t>(k);
-    }
-    return true;
-}
+bool write_all(int fd, const void *p, size_t n) { return bg_io_write_all(fd, p, n) == n; }
 
-bool read_all(int fd, void *p, size_t n)
-{
-    char *c = static_cast<char *>(p);
-    while (n) {
-        ssize_t k = read(fd, c, n);
-        if (k < 0 && errno == EINTR)
-            continue;
-        if (k <= 0)
-            return false;
-        c += k;
-        n -= static_cast<size_t>(k);
-    }
-    return true;
-}
+bool read_all(int fd, void *p, size_t n) { return bg_io_read_all(fd, p, n) == n; }
 
 // Cap the child's address space. A corrupt count in a header (assimp's own
 // test file invalid/OutOfMemory.off claims 3.5e9 vertices) otherwise makes the
@@ -440,11 +401,9 @@ size_t child_memory_cap(const char *path)
     h.dropped = m.dropped_primitives;
     bool ok = write_all(fd, &h, sizeof h);
     size_t nv = m.vertex_count * sizeof(float);
-    const float *arrays[] = {m.px, m.py, m.pz, m.nx, m.ny, m.nz, m.u, m.v,
-                             m.tx, m.ty, m.tz, m.tw};
-    for (const float *a : arrays)
-        if (ok && a)
-            ok = write_all(fd, a, nv);
+    for (float **a : vertex_arrays(m))
+        if (ok && *a)
+            ok = write_all(fd, *a, nv);
     if (ok && h.status == BG_OK)
         ok = write_all(fd, m.indices, m.triangle_count * 3 * sizeof(uint32_t));
     // _exit: no atexit handlers or stdio flushes of the parent's state.
@@ -486,8 +445,7 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
             m.mesh_count = h.mesh_count;
             m.dropped_primitives = h.dropped;
             size_t nv = m.vertex_count;
-            float **arrays[] = {&m.px, &m.py, &m.pz, &m.nx, &m.ny, &m.nz, &m.u, &m.v,
-                                &m.tx, &m.ty, &m.tz, &m.tw};
+            const auto arrays = vertex_arrays(m);
             for (int k = 0; k < 12 && got; ++k) {
                 if ((k >= 3 && k < 6 && !h.has_normals) || (k >= 6 && k < 8 && !h.has_uvs) ||
                     (k >= 8 && !h.has_tangents))
@@ -610,18 +568,9 @@ bg_status bg_mesh_export(const char *path, const char *format_id, const bg_mesh 
         bg_io_set_error(err, errlen, "bg_mesh_export: NULL argument");
         return BG_ERR_NULL_POINTER;
     }
-    try {
-        return export_scene(path, format_id, mesh, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "'%s': out of memory while exporting", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "'%s': the mesh exporter failed (%s)", path, e.what());
-        return BG_ERR_IO;
-    } catch (...) {
-        bg_io_set_error(err, errlen, "'%s': the mesh exporter failed", path);
-        return BG_ERR_IO;
-    }
+    return bg_io_guard("'" + std::string(path) + "'", "out of memory while exporting",
+                       "the mesh exporter failed", BG_ERR_IO, err, errlen,
+                       [&] { return export_scene(path, format_id, mesh, err, errlen); });
 }
 
 bg_status bg_mesh_load_ex(const char *path, unsigned flags, bg_mesh *out, char *err,
@@ -658,18 +607,8 @@ void bg_mesh_free(bg_mesh *mesh)
 {
     if (!mesh)
         return;
-    std::free(mesh->px);
-    std::free(mesh->py);
-    std::free(mesh->pz);
-    std::free(mesh->nx);
-    std::free(mesh->ny);
-    std::free(mesh->nz);
-    std::free(mesh->u);
-    std::free(mesh->v);
-    std::free(mesh->tx);
-    std::free(mesh->ty);
-    std::free(mesh->tz);
-    std::free(mesh->tw);
+    for (float **a : vertex_arrays(*mesh))
+        std::free(*a);
     std::free(mesh->indices);
     std::memset(mesh, 0, sizeof *mesh);
 }

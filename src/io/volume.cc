@@ -141,7 +141,8 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
     bg_status st = bg_io_make_temp(path, &tmp, err, errlen);
     if (st != BG_OK)
         return st;
-    try {
+    st = bg_io_guard("cannot write '" + std::string(path) + "'", "out of memory", "", BG_ERR_IO,
+                     err, errlen, [&] {
         vdb::GridCPtrVec grids;
         // Same metadata on both grids: each stays self-describing if split off.
         for (vdb::GridBase::Ptr g : {vdb::GridBase::Ptr(w->height), vdb::GridBase::Ptr(w->gradient)}) {
@@ -167,15 +168,10 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
         check.close();
         if (n != grids.size())
             throw std::runtime_error("the file read back has another number of grids");
-    } catch (const std::bad_alloc &) {
-        bg_io_discard_temp(tmp);
-        bg_io_set_error(err, errlen, "cannot write '%s': out of memory", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_discard_temp(tmp);
-        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, e.what());
-        return BG_ERR_IO;
-    }
+        return BG_OK;
+    }, [&] { bg_io_discard_temp(tmp); });
+    if (st != BG_OK)
+        return st;
     return bg_io_commit_temp(tmp, path, err, errlen);
 }
 
@@ -386,21 +382,15 @@ bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_hei
         return BG_ERR_NULL_POINTER;
     }
     *out = nullptr;
-    bg_status st = bg_io_check_readable(path, err, errlen);
+    bg_status st = bg_io_check_readable(path, nullptr, err, errlen);
     if (st != BG_OK)
         return st;
     st = probe_in_child(path, grid_name, err, errlen);
     if (st != BG_OK)
         return st;
-    try {
-        return open_impl(path, grid_name, out, err, errlen);
-    } catch (const std::bad_alloc &) {
-        bg_io_set_error(err, errlen, "'%s': out of memory", path);
-        return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &e) {
-        bg_io_set_error(err, errlen, "'%s': corrupt or truncated VDB file (%s)", path, e.what());
-        return BG_ERR_FORMAT;
-    }
+    return bg_io_guard("'" + std::string(path) + "'", "out of memory",
+                       "corrupt or truncated VDB file", BG_ERR_FORMAT, err, errlen,
+                       [&] { return open_impl(path, grid_name, out, err, errlen); });
 }
 
 void bg_vdb_height_close(bg_vdb_height *h)
