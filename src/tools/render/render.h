@@ -27,7 +27,7 @@ typedef enum render_method {
     /* Height / normal textures on a mesh with UVs (render_textured.c): */
     RENDER_LISTING1_HEIGHTMAP = 8,  /* Listing 1 fed by Listing 2 forward taps (quad ddx/ddy of st) */
     RENDER_LISTING1_HEIGHTMAP_CENTRAL = 9, /* the same with Listing 2's central taps */
-    RENDER_NORMALMAP = 10,          /* tangent-space normal map, per-vertex tangent frames */
+    RENDER_NORMALMAP = 10,          /* tangent-space normal map, mikkTSpace frames */
     RENDER_SURFGRAD_HEIGHTMAP = 11, /* eq. 3 on the UV chart, bicubic texel derivatives */
     RENDER_DETAIL = 12,             /* the Listing 1/2 height texture + turbulence, resolved */
     RENDER_METHOD_COUNT = 13
@@ -55,8 +55,9 @@ typedef struct render_mesh {
     size_t ntri;
     float *uv;   /* 6 floats per triangle: (s, t) texture coordinates of the corners
                     (s = u, t = 1 - v: the image's row direction), or NULL */
-    float *tan;  /* 12 floats per triangle: unit tangent (dP/ds) + sign of the
-                    bitangent (dP/dt = sign * n x t) per corner, or NULL */
+    float *tan;  /* 12 floats per triangle: the mikkTSpace tangent (along dP/du) and
+                    bitangent sign (b = sign * n x t, along dP/dv) per corner
+                    (bgt_mikk_tangents), or NULL */
     float *pos;  /* 9 floats per triangle: the three vertex positions */
     float *nrm;  /* 9 floats per triangle: the three unit vertex normals */
     float *face; /* 3 floats per triangle: unit face normal, on the side of the vertex normals */

@@ -4,11 +4,9 @@
  * texture methods of Mikkelsen 2010 section 6 / Figure 4:
  *  - the mesh is centred and scaled into the unit sphere (automatic framing:
  *    the camera of the built-in scenes then sees all of it);
- *  - vertex normals from the file, or area-weighted face normals when it has
- *    none; per-vertex tangents from the UVs (the classic per-triangle dP/ds
- *    accumulated at the vertices, Gram-Schmidt against the normal, handedness
- *    from dP/dt), computed here: the mikkTSpace frames of src/tools/mesh are
- *    not in the tools library yet;
+ *  - vertex normals from the file, or angle-weighted ones when it has none,
+ *    and per-corner mikkTSpace tangents and signs (src/tools/mesh: the frames
+ *    `bumpgrad mesh --bake-normal-map` bakes in, so its maps render as baked);
  *  - textures from --height-map/--normal-map/--albedo, else from an OBJ's
  *    material library (the first map_bump/bump, norm and map_Kd found: the
  *    loader flattens all meshes and keeps no per-triangle material, so one
@@ -27,6 +25,7 @@
 #include <string.h>
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
+#include "mesh/mesh_tool.h"
 #include "render/render.h"
 #include "vecmath.h"
 
@@ -208,6 +207,16 @@ void render_tex_st(const render_mesh *m, const render_textures *tx, int prim, co
 }
 
 /* ---- loading ---- */
+/* Triangle I (3 indices) has its corners in range and finite: others are dropped. */
+static int tri_finite(const uint32_t *I, const float *vp, size_t nv)
+{
+    int ok = 1;
+    for (int k = 0; k < 3; k++)
+        ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
+              isfinite(vp[I[k] * 3 + 2]);
+    return ok;
+}
+
 bg_status render_load_mesh(const render_opts *o, render_mesh *m,
                            render_textures *t, char *desc, size_t desclen, bgt_err *e)
 {
@@ -254,11 +263,25 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
                         o->mesh_path);
     }
-    /* Vertex attributes: normalized positions, unit normals, tangents. */
-    float *vp = malloc(nv * 3 * sizeof(float)), *vn = calloc(nv * 3, sizeof(float));
-    float *vt = bm.u ? calloc(nv * 3, sizeof(float)) : NULL, *vb = bm.u ? calloc(nv * 3, sizeof(float)) : NULL;
-    if (!vp || !vn || (bm.u && (!vt || !vb))) {
-        free(vp), free(vn), free(vt), free(vb);
+    /* Vertex attributes: normalized positions, and the unit vertex normals of
+     * the mesh tool (mesh_frames.c: the file's, renormalized, else
+     * angle-weighted), so that a normal map baked by `bumpgrad mesh` is decoded
+     * here in the frame it was baked in. */
+    float *vp = malloc(nv * 3 * sizeof(float)), *vn = malloc(nv * 3 * sizeof(float));
+    float *sn = malloc((nv ? nv : 1) * 3 * sizeof(float));
+    if (!vp || !vn || !sn) {
+        free(vp), free(vn), free(sn);
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    float *snx = sn, *sny = sn + nv, *snz = sn + 2 * nv;
+    if (bm.nx) {
+        memcpy(snx, bm.nx, nv * sizeof(float));
+        memcpy(sny, bm.ny, nv * sizeof(float));
+        memcpy(snz, bm.nz, nv * sizeof(float));
+        mesh_normalize_normals(nv, snx, sny, snz);
+    } else if (mesh_vertex_normals(&bm, snx, sny, snz) == (size_t)-1) {
+        free(vp), free(vn), free(sn);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
@@ -266,53 +289,32 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         vp[i * 3] = (float)((bm.px[i] - c[0]) / rad);
         vp[i * 3 + 1] = (float)((bm.py[i] - c[1]) / rad);
         vp[i * 3 + 2] = (float)((bm.pz[i] - c[2]) / rad);
+        vn[i * 3] = snx[i], vn[i * 3 + 1] = sny[i], vn[i * 3 + 2] = snz[i];
+        /* (0,0,0): the face normal is used there (render_core trace) */
     }
-    size_t keep = 0;
-    for (size_t f = 0; f < bm.triangle_count; f++) {
-        const uint32_t *I = bm.indices + f * 3;
-        int ok = 1;
-        for (int k = 0; k < 3; k++)
-            ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
-                  isfinite(vp[I[k] * 3 + 2]);
-        if (!ok)
-            continue;
-        keep++;
-        const float *A = vp + I[0] * 3, *B = vp + I[1] * 3, *C = vp + I[2] * 3;
-        float e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-        float fn[3];
-        bg_f3_cross(e1, e2, fn); /* length = twice the area: area weighting */
-        if (!bm.nx)
-            for (int k = 0; k < 3; k++)
-                for (int a = 0; a < 3; a++)
-                    vn[I[k] * 3 + a] += fn[a];
-        if (bm.u) {
-            float P[9], st[6], ds[3], dt[3];
-            for (int k = 0; k < 3; k++) {
-                memcpy(P + k * 3, vp + I[k] * 3, 3 * sizeof(float));
-                st[k * 2] = bm.u[I[k]], st[k * 2 + 1] = 1.0f - bm.v[I[k]];
-            }
-            if (tri_chart(P, st, ds, dt)) {
-                float area = sqrtf(bg_f3_dot(fn, fn));
-                bg_f3_normalize(ds);
-                bg_f3_normalize(dt);
-                for (int k = 0; k < 3; k++)
-                    for (int a = 0; a < 3; a++) {
-                        vt[I[k] * 3 + a] += area * ds[a];
-                        vb[I[k] * 3 + a] += area * dt[a];
-                    }
-            }
+    /* Per-corner mikkTSpace tangents and signs (mikktspace.h), of the file's
+     * positions and UVs and the normals above: the frames `bumpgrad mesh
+     * --bake-normal-map` encodes in (mesh_bake.c). */
+    float *ctan = NULL;
+    if (bm.u) {
+        ctan = malloc((bm.triangle_count ? bm.triangle_count : 1) * 12 * sizeof(float));
+        bgt_mikk_mesh mm = {nv, bm.triangle_count, bm.indices, bm.px, bm.py, bm.pz,
+                            snx, sny, snz, bm.u, bm.v};
+        s = ctan ? bgt_mikk_tangents(&mm, ctan, NULL) : BG_ERR_OUT_OF_MEMORY;
+        if (s != BG_OK) {
+            free(vp), free(vn), free(sn), free(ctan);
+            bg_mesh_free(&bm);
+            return bgt_fail(e, s, "--mesh \"%s\": mikkTSpace tangents failed (%s)", o->mesh_path,
+                            bg_status_string(s));
         }
     }
-    if (bm.nx)
-        for (size_t i = 0; i < nv; i++)
-            vn[i * 3] = bm.nx[i], vn[i * 3 + 1] = bm.ny[i], vn[i * 3 + 2] = bm.nz[i];
-    for (size_t i = 0; i < nv; i++) {
-        float *n = vn + i * 3;
-        if (!isfinite(n[0]) || !isfinite(n[1]) || !isfinite(n[2]) || !bg_f3_normalize(n))
-            n[0] = n[1] = n[2] = 0.0f; /* the face normal is used there (render_core trace) */
+    free(sn);
+    size_t keep = 0;
+    for (size_t f = 0; f < bm.triangle_count; f++) {
+        keep += tri_finite(bm.indices + f * 3, vp, nv);
     }
     if (keep == 0) {
-        free(vp), free(vn), free(vt), free(vb);
+        free(vp), free(vn), free(ctan);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no triangle with finite corners",
                         o->mesh_path);
@@ -322,7 +324,7 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     float *tan = bm.u ? malloc(keep * 12 * sizeof(float)) : NULL;
     if (!pos || !nrm || (bm.u && (!uv || !tan))) {
         free(pos), free(nrm), free(uv), free(tan);
-        free(vp), free(vn), free(vt), free(vb);
+        free(vp), free(vn), free(ctan);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
@@ -330,31 +332,14 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     double len_s = 0, len_t = 0, wsum = 0; /* area-weighted |dP/ds|, |dP/dt| (normal-map bake) */
     for (size_t f = 0; f < bm.triangle_count; f++) {
         const uint32_t *I = bm.indices + f * 3;
-        int ok = 1;
-        for (int k = 0; k < 3; k++)
-            ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
-                  isfinite(vp[I[k] * 3 + 2]);
-        if (!ok)
+        if (!tri_finite(I, vp, nv))
             continue;
         for (int k = 0; k < 3; k++) {
             memcpy(pos + w * 9 + k * 3, vp + I[k] * 3, 3 * sizeof(float));
             memcpy(nrm + w * 9 + k * 3, vn + I[k] * 3, 3 * sizeof(float));
             if (bm.u) {
                 uv[w * 6 + k * 2] = bm.u[I[k]], uv[w * 6 + k * 2 + 1] = 1.0f - bm.v[I[k]];
-                const float *n = vn + I[k] * 3;
-                float T[3], B[3];
-                memcpy(T, vt + I[k] * 3, sizeof T);
-                memcpy(B, vb + I[k] * 3, sizeof B);
-                float d = bg_f3_dot(T, n);
-                for (int a = 0; a < 3; a++)
-                    T[a] -= d * n[a];
-                if (!bg_f3_normalize(T))
-                    T[0] = T[1] = T[2] = 0.0f;
-                float nxt[3];
-                bg_f3_cross(n, T, nxt);
-                float *o4 = tan + w * 12 + k * 4;
-                memcpy(o4, T, sizeof T);
-                o4[3] = bg_f3_dot(nxt, B) < 0 ? -1.0f : 1.0f;
+                memcpy(tan + w * 12 + k * 4, ctan + (f * 3 + k) * 4, 4 * sizeof(float));
             }
         }
         if (bm.u) {
@@ -371,7 +356,7 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         }
         w++;
     }
-    free(vp), free(vn), free(vt), free(vb);
+    free(vp), free(vn), free(ctan);
     const int has_uv = bm.u != NULL;
     bg_mesh_free(&bm);
     if ((s = render_mesh_adopt(m, keep, pos, nrm, uv, tan)) != BG_OK)
@@ -445,11 +430,11 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
                 s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
                 goto fail;
             }
-            /* Stored 0.5 m + 0.5 with +y up the image (OpenGL); our t runs down. */
-            for (size_t i = 0; i < np_; i++) {
-                float v = 2.0f * img.pixels[i * img.channels + ch] - 1.0f;
-                tx[i] = ch == 1 ? -v : v;
-            }
+            /* Stored 0.5 m + 0.5 with +y up the image (OpenGL), i.e. along
+             * +v: the mikkTSpace bitangent sign * n x t, which points along
+             * dP/dv (bumpgrad mesh --bake-normal-map writes this). */
+            for (size_t i = 0; i < np_; i++)
+                tx[i] = 2.0f * img.pixels[i * img.channels + ch] - 1.0f;
             t->owned[4 + ch] = tx;
             t->nmap[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
         }
@@ -481,7 +466,9 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
             for (int i = 0; i < W; i++) {
                 float a = 0.5f * (h[(size_t)j * W + (i + 1) % W] - h[(size_t)j * W + (i + W - 1) % W]);
                 float b = 0.5f * (h[(size_t)((j + 1) % H) * W + i] - h[(size_t)((j + H - 1) % H) * W + i]);
-                float n[3] = {-ks * a, -kt * b, 1.0f};
+                /* b is d/dt down the rows, = -d/dv: m.y = -dh/dv = +kt b
+                 * (green up, the frame of the decoding in render_core). */
+                float n[3] = {-ks * a, kt * b, 1.0f};
                 bg_f3_normalize(n);
                 for (int ch = 0; ch < 3; ch++)
                     t->owned[4 + ch][(size_t)j * W + i] = n[ch];
