@@ -294,9 +294,12 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     }
     /* Per-corner mikkTSpace tangents and signs (mikktspace.h), of the file's
      * positions and UVs and the normals above: the frames `bumpgrad mesh
-     * --bake-normal-map` encodes in (mesh_bake.c). */
+     * --bake-normal-map` encodes in (mesh_bake.c). Only the normalmap method
+     * reads them, and a million triangles take seconds (docs/FIGURES.md,
+     * scale): computed only for it. */
+    const int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
     float *ctan = NULL;
-    if (bm.u) {
+    if (bm.u && want_nmap) {
         ctan = malloc((bm.triangle_count ? bm.triangle_count : 1) * 12 * sizeof(float));
         bgt_mikk_mesh mm = {nv, bm.triangle_count, bm.indices, bm.px, bm.py, bm.pz,
                             snx, sny, snz, bm.u, bm.v};
@@ -321,8 +324,8 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     }
     float *pos = malloc(keep * 9 * sizeof(float)), *nrm = malloc(keep * 9 * sizeof(float));
     float *uv = bm.u ? malloc(keep * 6 * sizeof(float)) : NULL;
-    float *tan = bm.u ? malloc(keep * 12 * sizeof(float)) : NULL;
-    if (!pos || !nrm || (bm.u && (!uv || !tan))) {
+    float *tan = ctan ? malloc(keep * 12 * sizeof(float)) : NULL;
+    if (!pos || !nrm || (bm.u && !uv) || (ctan && !tan)) {
         free(pos), free(nrm), free(uv), free(tan);
         free(vp), free(vn), free(ctan);
         bg_mesh_free(&bm);
@@ -339,7 +342,8 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
             memcpy(nrm + w * 9 + k * 3, vn + I[k] * 3, 3 * sizeof(float));
             if (bm.u) {
                 uv[w * 6 + k * 2] = bm.u[I[k]], uv[w * 6 + k * 2 + 1] = 1.0f - bm.v[I[k]];
-                memcpy(tan + w * 12 + k * 4, ctan + (f * 3 + k) * 4, 4 * sizeof(float));
+                if (ctan)
+                    memcpy(tan + w * 12 + k * 4, ctan + (f * 3 + k) * 4, 4 * sizeof(float));
             }
         }
         if (bm.u) {
@@ -412,7 +416,6 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " height=%s%s", hsrc,
                                hp ? "" : "(gray-of-albedo)");
     }
-    int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
     if (want_nmap && np) {
         if ((s = read_texture("--normal-map", np, &img, e)) != BG_OK)
             goto fail;
