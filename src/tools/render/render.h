@@ -10,6 +10,7 @@
 #define BUMPGRAD_TOOLS_RENDER_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include "common/tool.h"
 #include "height_source.h"
 #include "bumpgrad/framework.h"
@@ -61,6 +62,7 @@ typedef struct render_mesh {
     float *pos;  /* 9 floats per triangle: the three vertex positions */
     float *nrm;  /* 9 floats per triangle: the three unit vertex normals */
     float *face; /* 3 floats per triangle: unit face normal, on the side of the vertex normals */
+    uint32_t *mat; /* per triangle: its material (render_textures.mat), or NULL: all 0 */
     render_bvh_node *nodes;
     size_t nnodes;
 } render_mesh;
@@ -102,15 +104,29 @@ int render_embree_intersect(const render_embree *r, const float o[3], const floa
                             render_hit *hit);
 
 /* ---- textures of a mesh (render_textured.c) ---- */
-typedef struct render_textures {
+/* The texture set of one material of the file (or the --height-map,
+ * --normal-map, --albedo given for all). */
+typedef struct render_material {
     bg_height_texture height; /* heights in [0, 1] (gray levels); texels NULL: none */
-    bg_height_texture nmap[3]; /* tangent-space normal, s/t/n components; texels NULL: none */
+    bg_height_texture nmap[3]; /* tangent-space normal, t/b/n components; texels NULL: none */
     bg_height_texture albedo[3]; /* linear RGB; texels NULL: none */
+    float *owned[7];
+} render_material;
+typedef struct render_textures {
+    render_material *mat; /* nmat >= 1 sets; triangle k uses mat[mesh->mat[k]] */
+    size_t nmat;
+    int any_height, any_nmap; /* some material has a height texture / a normal map */
     float amplitude;  /* world height of a texel value 1 (the mesh fits the unit sphere) */
     float st_scale;   /* texture coordinates multiplied by this (< 1 magnifies) */
-    float *owned[7];
 } render_textures;
 void render_textures_free(render_textures *t);
+/* The material of triangle `prim` (the first without per-triangle ids). */
+static inline const render_material *render_tex_material(const render_textures *t,
+                                                         const render_mesh *m, int prim)
+{
+    size_t i = m->mat ? m->mat[prim] : 0;
+    return &t->mat[i < t->nmat ? i : 0];
+}
 /* dP/ds, dP/dt of triangle `prim` on its (scaled) UV chart; zero when its UVs
  * are degenerate. */
 void render_tex_chart(const render_mesh *m, const render_textures *tx, int prim, float ds[3],

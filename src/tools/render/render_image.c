@@ -665,7 +665,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
     } else if (o->compare) {
         int texref = 0;
         for (int m = 0; m < job.nmethods; m++)
-            texref |= render_method_textured(job.methods[m]) && tex.height.texels; /* render_run */
+            texref |= render_method_textured(job.methods[m]) && tex.any_height; /* render_run */
         if ((rc = compose_panel(o, &job, st, stamp, texref ? "surfgrad-heightmap" : "surfgrad",
                                 &canvas, e)) != BG_OK)
             goto done;
