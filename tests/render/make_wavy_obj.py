@@ -5,7 +5,7 @@ the test that a normal map baked by `bumpgrad mesh` renders as baked
 
 usage: make_wavy_obj.py OUT.obj [N]
 
-N x N quads (default 24) on z = 0.25 sin(2.3 x) cos(1.7 y) + 0.1 x y, split
+N x N quads (default 6, coarse: the frames then vary most inside a triangle) on z = 0.25 sin(2.3 x) cos(1.7 y) + 0.1 x y, split
 along alternating diagonals, scaled so that the bounding-box centre is the
 origin and the farthest vertex is at distance 1 (what `render --mesh` does, so
 the solid height sees the same points in both tools). The UVs are the grid
@@ -22,7 +22,7 @@ import sys
 
 def main():
     out = sys.argv[1]
-    n = int(sys.argv[2]) if len(sys.argv) > 2 else 24
+    n = int(sys.argv[2]) if len(sys.argv) > 2 else 6
     pts, uvs, nrm = [], [], []
     for j in range(n + 1):
         for i in range(n + 1):

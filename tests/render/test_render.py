@@ -419,11 +419,13 @@ def t_bakedmap(tmp):
     height rendered procedurally (surfgrad, eq. 2 and 4, the reference of a
     job with a normal map and no height texture). The mesh's jittered UVs make
     per-triangle dP/du turn between neighbours, so frames averaged any other
-    way than mikkTSpace's decode the map away from the bake (docs/FIGURES.md)."""
+    way than mikkTSpace's decode the map away from the bake: the renderer's
+    former per-vertex UV tangents (area-weighted dP/ds, normalized after
+    interpolation) give mean 0.099, p99 0.32 deg here; mikkTSpace 0.009, 0.056."""
     mesh = os.path.join(tmp, "wavy.obj")
     here = os.path.dirname(os.path.abspath(__file__))
     subprocess.run([sys.executable, os.path.join(here, "make_wavy_obj.py"), mesh], check=True)
-    height = ["--function", "noise", "--frequency", "4", "--amplitude", "0.03"]
+    height = ["--function", "noise", "--frequency", "4", "--amplitude", "0.08"]
     nm = os.path.join(tmp, "nm.exr")
     p = subprocess.run([EXE, "mesh", mesh, "--bake-normal-map", nm, "--size", "512",
                         "--bake-depth", "float", "--quiet"] + height,
@@ -439,9 +441,10 @@ def t_bakedmap(tmp):
         return
     check(st["none"]["mean_deg"] > 3.0, f"the height visibly bumps the mesh ({st['none']})")
     # Float map, 512 texels over the patch: what remains is the bilinear filter
-    # of the map between texel centres (measured 0.008 mean, 0.08 p99).
-    check(st["normalmap"]["mean_deg"] < 0.05 and st["normalmap"]["p99_deg"] < 0.5,
-          f"the baked map renders as baked: mean < 0.05, p99 < 0.5 deg ({st['normalmap']})")
+    # of the map between texel centres. The bounds sit 3x above what mikkTSpace
+    # frames give and 3x below what the former UV tangents gave.
+    check(st["normalmap"]["mean_deg"] < 0.03 and st["normalmap"]["p99_deg"] < 0.15,
+          f"the baked map renders as baked: mean < 0.03, p99 < 0.15 deg ({st['normalmap']})")
 
 
 def read_ppm(path):
