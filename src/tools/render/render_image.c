@@ -433,7 +433,7 @@ static const char *const fig4_caption[6] = {
     "(a) Listing 1, height map", "(b) normal mapping", "(c) no perturbation",
     "(d) Listing 1 + albedo",    "(e) undersampling",  "(f) with detail"};
 static const char *const fig4_sub[6] = {
-    "Listing 2 taps", "per-vertex tangents", "unperturbed normals", "albedo texture",
+    "Listing 2 taps", "mikkTSpace frames", "unperturbed normals", "albedo texture",
     "close-up, magnified texture", "+ turbulence, resolved"};
 
 static bg_status compose_fig4(const render_job *full, const render_job *close,
