@@ -368,6 +368,47 @@ void render_tex_st(const render_mesh *m, const render_textures *tx, int prim, co
                         tx->st_scale);
 }
 
+/* Texel conversions of image pixels (px: one pixel's `n` stored values). */
+static float texel_albedo(const float *px, int n, int ch)
+{
+    return srgb_to_linear(px[ch < n ? ch : 0]);
+}
+static float texel_height(const float *px, int n, int ch)
+{
+    (void)ch;
+    return gray(px, n);
+}
+static float texel_normal(const float *px, int n, int ch)
+{
+    /* Stored 0.5 m + 0.5 with +y up the image (OpenGL), i.e. along +v: the
+     * mikkTSpace bitangent sign * n x t, which points along dP/dv (bumpgrad
+     * mesh --bake-normal-map writes this). */
+    (void)n;
+    return 2.0f * px[ch] - 1.0f;
+}
+
+/* Convert img into `nch` textures (tex[c] owning owned[c]) with `texel`,
+ * and free img. BG_OK or BG_ERR_OUT_OF_MEMORY. */
+static bg_status image_to_textures(bg_image *img, int nch,
+                                   float (*texel)(const float *, int, int), float **owned,
+                                   bg_height_texture *tex, bgt_err *e)
+{
+    size_t np_ = (size_t)img->width * img->height;
+    for (int ch = 0; ch < nch; ch++) {
+        float *tx = malloc((np_ ? np_ : 1) * sizeof(float));
+        if (!tx) {
+            bg_image_free(img);
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        for (size_t i = 0; i < np_; i++)
+            tx[i] = texel(img->pixels + i * img->channels, img->channels, ch);
+        owned[ch] = tx;
+        tex[ch] = (bg_height_texture){img->width, img->height, tx, BG_WRAP_REPEAT};
+    }
+    bg_image_free(img);
+    return BG_OK;
+}
+
 /* The texture set of one material: the albedo (sRGB to linear), the height
  * (the height map's gray level, else the albedo's: the seed's diffuse-to-height
  * method) and the tangent-space normal map (the file, else baked from the
@@ -380,38 +421,16 @@ static bg_status load_material(const render_opts *o, const char *hp, const char 
     bg_image img;
     bg_status s;
     if (ap && !o->no_albedo) {
-        if ((s = read_texture("--albedo", ap, &img, e)) != BG_OK)
+        if ((s = read_texture("--albedo", ap, &img, e)) != BG_OK ||
+            (s = image_to_textures(&img, 3, texel_albedo, M->owned, M->albedo, e)) != BG_OK)
             return s;
-        size_t np_ = (size_t)img.width * img.height;
-        for (int ch = 0; ch < 3; ch++) {
-            float *tx = malloc(np_ * sizeof(float));
-            if (!tx) {
-                bg_image_free(&img);
-                return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-            }
-            for (size_t i = 0; i < np_; i++)
-                tx[i] = srgb_to_linear(img.pixels[i * img.channels + (ch < img.channels ? ch : 0)]);
-            M->owned[ch] = tx;
-            M->albedo[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
-        }
-        bg_image_free(&img);
         desc_add(desc, desclen, dl, short_names, " albedo=", ap, "");
     }
     const char *hsrc = hp ? hp : ap;
     if (hsrc) {
-        if ((s = read_texture(hp ? "--height-map" : "--albedo", hsrc, &img, e)) != BG_OK)
+        if ((s = read_texture(hp ? "--height-map" : "--albedo", hsrc, &img, e)) != BG_OK ||
+            (s = image_to_textures(&img, 1, texel_height, M->owned + 3, &M->height, e)) != BG_OK)
             return s;
-        size_t np_ = (size_t)img.width * img.height;
-        float *tx = malloc(np_ * sizeof(float));
-        if (!tx) {
-            bg_image_free(&img);
-            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-        }
-        for (size_t i = 0; i < np_; i++)
-            tx[i] = gray(img.pixels + i * img.channels, img.channels);
-        M->owned[3] = tx;
-        M->height = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
-        bg_image_free(&img);
         desc_add(desc, desclen, dl, short_names, " height=", hsrc, hp ? "" : "(gray-of-albedo)");
     }
     if (want_nmap && np) {
@@ -422,22 +441,8 @@ static bg_status load_material(const render_opts *o, const char *hp, const char 
             return bgt_fail(e, BG_ERR_FORMAT, "--normal-map \"%s\": needs 3 channels, has %d", np,
                             img.channels);
         }
-        size_t np_ = (size_t)img.width * img.height;
-        for (int ch = 0; ch < 3; ch++) {
-            float *tx = malloc(np_ * sizeof(float));
-            if (!tx) {
-                bg_image_free(&img);
-                return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-            }
-            /* Stored 0.5 m + 0.5 with +y up the image (OpenGL), i.e. along
-             * +v: the mikkTSpace bitangent sign * n x t, which points along
-             * dP/dv (bumpgrad mesh --bake-normal-map writes this). */
-            for (size_t i = 0; i < np_; i++)
-                tx[i] = 2.0f * img.pixels[i * img.channels + ch] - 1.0f;
-            M->owned[4 + ch] = tx;
-            M->nmap[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
-        }
-        bg_image_free(&img);
+        if ((s = image_to_textures(&img, 3, texel_normal, M->owned + 4, M->nmap, e)) != BG_OK)
+            return s;
         desc_add(desc, desclen, dl, short_names, " normalmap=", np, "");
     } else if (want_nmap && M->height.texels) {
         /* Bake the tangent-space normal map of the height texture (the seed's
