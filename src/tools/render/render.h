@@ -95,10 +95,11 @@ typedef struct render_embree render_embree;
 /* 1 when the tool was built with Embree. */
 int render_embree_available(void);
 /* Build an Embree scene of the mesh's triangles (same prim ids and barycentrics
- * as render_mesh_intersect); *build_seconds gets the BVH build's wall time.
+ * as render_mesh_intersect) with `threads` build threads (0: every core);
+ * *build_seconds gets the BVH build's wall time.
  * BG_ERR_INVALID_ARGUMENT without Embree, BG_ERR_OUT_OF_MEMORY on failure. */
-bg_status render_embree_build(const render_mesh *m, render_embree **out, double *build_seconds,
-                              bgt_err *e);
+bg_status render_embree_build(const render_mesh *m, int threads, render_embree **out,
+                              double *build_seconds, bgt_err *e);
 void render_embree_free(render_embree *r);
 int render_embree_intersect(const render_embree *r, const float o[3], const float d[3],
                             render_hit *hit);

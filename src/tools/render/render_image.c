@@ -542,7 +542,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
         scene.mesh = &mesh;
     }
     if (scene.mesh && use_embree) {
-        if ((rc = render_embree_build(&mesh, &rtc, &r->build_seconds, e)) != BG_OK) {
+        if ((rc = render_embree_build(&mesh, o->threads, &rtc, &r->build_seconds, e)) != BG_OK) {
             render_mesh_free(&mesh);
             render_textures_free(&tex);
             return rc;
