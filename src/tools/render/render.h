@@ -257,8 +257,9 @@ typedef struct render_result {
 bg_status render_image(const render_opts *o, render_result *r, bgt_err *e);
 
 /* Load a mesh (bg_mesh_load) into a render_mesh centred at the origin and
- * scaled to fit the unit sphere, with UVs and per-vertex tangents when the file
- * has UVs, and its textures (render_textured.c). Errors name the file:
+ * scaled to fit the unit sphere, with UVs when the file has them, mikkTSpace
+ * tangents when the normalmap method is rendered, the material of each
+ * triangle (an OBJ's usemtl) and each material's textures (render_textured.c). Errors name the file:
  * BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT (exit 2) for a missing, unreadable
  * or corrupt mesh or texture, or a textured method on a mesh without UVs.
  * No BVH: the caller builds Embree's or render_mesh_bvh. */
