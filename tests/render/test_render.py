@@ -413,10 +413,112 @@ def t_fig4(tmp):
     check(size is not None and size[0] == 3 * (96 + 4) + 4, f"fig4: three columns ({size})")
 
 
+def t_bakedmap(tmp):
+    """A tangent-space normal map baked by `bumpgrad mesh --bake-normal-map` from
+    a solid height renders (`--method normalmap`, mikkTSpace frames) as the same
+    height rendered procedurally (surfgrad, eq. 2 and 4, the reference of a
+    job with a normal map and no height texture). The mesh's jittered UVs make
+    per-triangle dP/du turn between neighbours, so frames averaged any other
+    way than mikkTSpace's decode the map away from the bake: the renderer's
+    former per-vertex UV tangents (area-weighted dP/ds, normalized after
+    interpolation) give mean 0.099, p99 0.32 deg here; mikkTSpace 0.009, 0.056."""
+    mesh = os.path.join(tmp, "wavy.obj")
+    here = os.path.dirname(os.path.abspath(__file__))
+    subprocess.run([sys.executable, os.path.join(here, "make_wavy_obj.py"), mesh], check=True)
+    height = ["--function", "noise", "--frequency", "4", "--amplitude", "0.08"]
+    nm = os.path.join(tmp, "nm.exr")
+    p = subprocess.run([EXE, "mesh", mesh, "--bake-normal-map", nm, "--size", "512",
+                        "--bake-depth", "float", "--quiet"] + height,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=120)
+    if not check(p.returncode == 0, f"bake: exit 0 (got {p.returncode}: {p.stderr.strip()})"):
+        return
+    out = os.path.join(tmp, "nm.png")
+    rc, so, se = run(["--mesh", mesh, "--normal-map", nm, "--compare", "normalmap,none",
+                      "--view", "0.2,0.3,1", "--size", "128x128", "--output", out] + height, tmp)
+    check(rc == 0, f"render: exit 0 (got {rc}: {se.strip()})")
+    st = stats(so)
+    if not check(set(st) == {"normalmap", "none"}, f"stats of both methods ({so})"):
+        return
+    check(st["none"]["mean_deg"] > 3.0, f"the height visibly bumps the mesh ({st['none']})")
+    # Float map, 512 texels over the patch: what remains is the bilinear filter
+    # of the map between texel centres. The bounds sit 3x above what mikkTSpace
+    # frames give and 3x below what the former UV tangents gave.
+    check(st["normalmap"]["mean_deg"] < 0.03 and st["normalmap"]["p99_deg"] < 0.15,
+          f"the baked map renders as baked: mean < 0.03, p99 < 0.15 deg ({st['normalmap']})")
+
+
+def read_ppm(path):
+    """(width, height, bytes) of a binary PPM (P6, maxval 255)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    fields, pos = [], 0
+    while len(fields) < 4:
+        while data[pos:pos + 1].isspace():
+            pos += 1
+        if data[pos:pos + 1] == b"#":
+            pos = data.index(b"\n", pos)
+            continue
+        end = pos
+        while not data[end:end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    assert fields[0] == b"P6" and fields[3] == b"255"
+    return int(fields[1]), int(fields[2]), data[pos + 1:]
+
+
+def t_materials(tmp):
+    """Each triangle takes its own material's textures: an OBJ whose left quad
+    uses a red and whose right quad uses a blue albedo renders red on the left
+    and blue on the right; --albedo overrides both; the spider's legs, abdomen
+    and eyes use their own materials' images."""
+    def ppm(name, rgb):
+        with open(os.path.join(tmp, name), "wb") as f:
+            f.write(b"P6 8 8 255\n" + bytes(rgb) * 64)
+    ppm("red.ppm", (230, 20, 20))
+    ppm("blue.ppm", (20, 20, 230))
+    ppm("green.ppm", (20, 230, 20))
+    with open(os.path.join(tmp, "two.mtl"), "w") as f:
+        f.write("newmtl red\nKd 1 1 1\nmap_Kd red.ppm\nnewmtl blue\nKd 1 1 1\nmap_Kd blue.ppm\n")
+    mesh = os.path.join(tmp, "two.obj")
+    with open(mesh, "w") as f:
+        f.write("mtllib two.mtl\nv -1 -0.5 0\nv 0 -0.5 0\nv 0 0.5 0\nv -1 0.5 0\nv 1 -0.5 0\n"
+                "v 1 0.5 0\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                # the blue face first in the file, so file order is what is checked
+                "usemtl blue\nf 2/1/1 5/2/1 6/3/1 3/4/1\n"
+                "usemtl red\nf 1/1/1 2/2/1 3/3/1 4/4/1\n")
+    out = os.path.join(tmp, "two.ppm")
+
+    def sides(extra):
+        rc, so, se = run(["--mesh", mesh, "--method", "none", "--view", "0,0,1", "--size",
+                          "64x64", "--output", out] + extra, tmp)
+        check(rc == 0, f"two materials: exit 0 (got {rc}: {se.strip()})")
+        w, h, px = read_ppm(out)
+        def at(x, y):
+            i = (y * w + x) * 3
+            return tuple(px[i:i + 3])
+        return so, at(w // 4, h // 2), at(3 * w // 4, h // 2)
+
+    so, left, right = sides([])
+    check("red.ppm" in so and "blue.ppm" in so, f"both materials' textures are loaded ({so})")
+    check(left[0] > 2 * left[2] and left[0] > 2 * left[1], f"the left quad is red {left}")
+    check(right[2] > 2 * right[0] and right[2] > 2 * right[1], f"the right quad is blue {right}")
+    so, left, right = sides(["--albedo", os.path.join(tmp, "green.ppm")])
+    check(all(c[1] > 2 * c[0] and c[1] > 2 * c[2] for c in (left, right)),
+          f"--albedo overrides every material: both green {left} {right}")
+    if os.path.exists(SPIDER):
+        rc, so, se = run(["--mesh", SPIDER, "--compare", "none,listing1-heightmap", "--size",
+                          "48x48", "--output", os.path.join(tmp, "sp.png")], tmp)
+        check(rc == 0, f"spider: exit 0 (got {rc}: {se.strip()})")
+        for img in ("wal67ar_small.jpg", "SpiderTex.jpg", "drkwood2.jpg", "engineflare1.jpg"):
+            check(img in so, f"spider: its material's {img} is used")
+
+
 TESTS = {"presets": t_presets, "inward": t_inward, "density": t_density, "none": t_none,
          "determinism": t_determinism, "badargs": t_badargs, "closeup": t_closeup,
          "mesh": t_mesh, "mesherrors": t_mesherrors, "tracers": t_tracers, "fig4": t_fig4,
-         "json": t_json}
+         "json": t_json, "bakedmap": t_bakedmap,
+         "materials": t_materials}
 
 if __name__ == "__main__":
     if shutil.which("iinfo") is None or shutil.which("idiff") is None:

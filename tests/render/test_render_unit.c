@@ -185,7 +185,7 @@ static void test_embree(render_shape shape)
     render_embree *rt = NULL;
     bgt_err err;
     double secs = -1;
-    bg_status s = render_embree_build(&m, &rt, &secs, &err);
+    bg_status s = render_embree_build(&m, 2, &rt, &secs, &err);
     if (!render_embree_available()) {
         CHECK(s == BG_ERR_INVALID_ARGUMENT && rt == NULL, "no Embree: a clean error");
         render_mesh_free(&m);

@@ -10,6 +10,7 @@
 #define BUMPGRAD_TOOLS_RENDER_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include "common/tool.h"
 #include "height_source.h"
 #include "bumpgrad/framework.h"
@@ -27,7 +28,7 @@ typedef enum render_method {
     /* Height / normal textures on a mesh with UVs (render_textured.c): */
     RENDER_LISTING1_HEIGHTMAP = 8,  /* Listing 1 fed by Listing 2 forward taps (quad ddx/ddy of st) */
     RENDER_LISTING1_HEIGHTMAP_CENTRAL = 9, /* the same with Listing 2's central taps */
-    RENDER_NORMALMAP = 10,          /* tangent-space normal map, per-vertex tangent frames */
+    RENDER_NORMALMAP = 10,          /* tangent-space normal map, mikkTSpace frames */
     RENDER_SURFGRAD_HEIGHTMAP = 11, /* eq. 3 on the UV chart, bicubic texel derivatives */
     RENDER_DETAIL = 12,             /* the Listing 1/2 height texture + turbulence, resolved */
     RENDER_METHOD_COUNT = 13
@@ -55,11 +56,13 @@ typedef struct render_mesh {
     size_t ntri;
     float *uv;   /* 6 floats per triangle: (s, t) texture coordinates of the corners
                     (s = u, t = 1 - v: the image's row direction), or NULL */
-    float *tan;  /* 12 floats per triangle: unit tangent (dP/ds) + sign of the
-                    bitangent (dP/dt = sign * n x t) per corner, or NULL */
+    float *tan;  /* 12 floats per triangle: the mikkTSpace tangent (along dP/du) and
+                    bitangent sign (b = sign * n x t, along dP/dv) per corner
+                    (bgt_mikk_tangents), or NULL */
     float *pos;  /* 9 floats per triangle: the three vertex positions */
     float *nrm;  /* 9 floats per triangle: the three unit vertex normals */
     float *face; /* 3 floats per triangle: unit face normal, on the side of the vertex normals */
+    uint32_t *mat; /* per triangle: its material (render_textures.mat), or NULL: all 0 */
     render_bvh_node *nodes;
     size_t nnodes;
 } render_mesh;
@@ -92,24 +95,39 @@ typedef struct render_embree render_embree;
 /* 1 when the tool was built with Embree. */
 int render_embree_available(void);
 /* Build an Embree scene of the mesh's triangles (same prim ids and barycentrics
- * as render_mesh_intersect); *build_seconds gets the BVH build's wall time.
+ * as render_mesh_intersect) with `threads` build threads (0: every core);
+ * *build_seconds gets the BVH build's wall time.
  * BG_ERR_INVALID_ARGUMENT without Embree, BG_ERR_OUT_OF_MEMORY on failure. */
-bg_status render_embree_build(const render_mesh *m, render_embree **out, double *build_seconds,
-                              bgt_err *e);
+bg_status render_embree_build(const render_mesh *m, int threads, render_embree **out,
+                              double *build_seconds, bgt_err *e);
 void render_embree_free(render_embree *r);
 int render_embree_intersect(const render_embree *r, const float o[3], const float d[3],
                             render_hit *hit);
 
 /* ---- textures of a mesh (render_textured.c) ---- */
-typedef struct render_textures {
+/* The texture set of one material of the file (or the --height-map,
+ * --normal-map, --albedo given for all). */
+typedef struct render_material {
     bg_height_texture height; /* heights in [0, 1] (gray levels); texels NULL: none */
-    bg_height_texture nmap[3]; /* tangent-space normal, s/t/n components; texels NULL: none */
+    bg_height_texture nmap[3]; /* tangent-space normal, t/b/n components; texels NULL: none */
     bg_height_texture albedo[3]; /* linear RGB; texels NULL: none */
+    float *owned[7];
+} render_material;
+typedef struct render_textures {
+    render_material *mat; /* nmat >= 1 sets; triangle k uses mat[mesh->mat[k]] */
+    size_t nmat;
+    int any_height, any_nmap; /* some material has a height texture / a normal map */
     float amplitude;  /* world height of a texel value 1 (the mesh fits the unit sphere) */
     float st_scale;   /* texture coordinates multiplied by this (< 1 magnifies) */
-    float *owned[7];
 } render_textures;
 void render_textures_free(render_textures *t);
+/* The material of triangle `prim` (the first without per-triangle ids). */
+static inline const render_material *render_tex_material(const render_textures *t,
+                                                         const render_mesh *m, int prim)
+{
+    size_t i = m->mat ? m->mat[prim] : 0;
+    return &t->mat[i < t->nmat ? i : 0];
+}
 /* dP/ds, dP/dt of triangle `prim` on its (scaled) UV chart; zero when its UVs
  * are degenerate. */
 void render_tex_chart(const render_mesh *m, const render_textures *tx, int prim, float ds[3],
@@ -239,8 +257,9 @@ typedef struct render_result {
 bg_status render_image(const render_opts *o, render_result *r, bgt_err *e);
 
 /* Load a mesh (bg_mesh_load) into a render_mesh centred at the origin and
- * scaled to fit the unit sphere, with UVs and per-vertex tangents when the file
- * has UVs, and its textures (render_textured.c). Errors name the file:
+ * scaled to fit the unit sphere, with UVs when the file has them, mikkTSpace
+ * tangents when the normalmap method is rendered, the material of each
+ * triangle (an OBJ's usemtl) and each material's textures (render_textured.c). Errors name the file:
  * BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT (exit 2) for a missing, unreadable
  * or corrupt mesh or texture, or a textured method on a mesh without UVs.
  * No BVH: the caller builds Embree's or render_mesh_bvh. */

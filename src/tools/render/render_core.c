@@ -17,6 +17,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include "mesh/mikktspace.h"
 #include "render/render.h"
 #include "bumpgrad/framework.h"
 #include "vecmath.h"
@@ -217,7 +218,7 @@ typedef struct run_ctx {
     render_job *job;
     int tiles_x, tiles_y;
     int need_quads;
-    int tex_ref; /* the reference is surfgrad-heightmap (a textured job) */
+    int tex_ref; /* the reference is surfgrad-heightmap (a job with a height texture) */
     int need_detail;
     int need_solid; /* some method uses the solid height at the hits (not texture-only) */
     atomic_int failed;
@@ -288,55 +289,63 @@ static void put3(bg_vec3 v, float o[3]) { o[0] = v.x, o[1] = v.y, o[2] = v.z; }
 static bg_vec3 tex_surfgrad(const render_scene *S, int prim, const float st[2], const float n[3])
 {
     const render_textures *X = S->tex;
+    const bg_height_texture *H = &render_tex_material(X, S->mesh, prim)->height;
+    if (!H->texels)
+        return (bg_vec3){0, 0, 0}; /* a material without a height: no perturbation */
     float ds[3], dt[3];
     render_tex_chart(S->mesh, X, prim, ds, dt);
-    bg_vec2 d = bg_height_texture_derivs_bicubic(&X->height, (bg_vec2){st[0], st[1]});
+    bg_vec2 d = bg_height_texture_derivs_bicubic(H, (bg_vec2){st[0], st[1]});
     return bg_surfgrad_from_param_derivs(v3(n), v3(ds), v3(dt),
-                                         X->amplitude * d.x * (float)X->height.width,
-                                         X->amplitude * d.y * (float)X->height.height);
+                                         X->amplitude * d.x * (float)H->width,
+                                         X->amplitude * d.y * (float)H->height);
 }
 
 /* Listing 1's inputs on the quad: sigma_s, sigma_t = ddx_fine/ddy_fine of the
  * position (the lane's row / column pair, as render_listing1), and Listing 2's
  * taps along ddx/ddy of the texture coordinate, height per pixel. */
-static void quad_listing2(const render_scene *S, const float qp[4][3], const float qst[4][2],
-                          int lane, bg_diff_mode mode, float sS[3], float sT[3], float dB[2])
+static void quad_listing2(const render_scene *S, int prim, const float qp[4][3],
+                          const float qst[4][2], int lane, bg_diff_mode mode, float sS[3],
+                          float sT[3], float dB[2])
 {
+    const bg_height_texture *H = &render_tex_material(S->tex, S->mesh, prim)->height;
     int lx = lane & 1, ly = lane >> 1, r = 2 * ly, c = lx;
     for (int a = 0; a < 3; a++)
         sS[a] = qp[r + 1][a] - qp[r][a], sT[a] = qp[c + 2][a] - qp[c][a];
     bg_vec2 dx = {qst[r + 1][0] - qst[r][0], qst[r + 1][1] - qst[r][1]};
     bg_vec2 dy = {qst[c + 2][0] - qst[c][0], qst[c + 2][1] - qst[c][1]};
-    bg_vec2 d = bg_height_texture_derivs(&S->tex->height, mode,
-                                         (bg_vec2){qst[lane][0], qst[lane][1]}, dx, dy);
+    bg_vec2 d = H->texels ? bg_height_texture_derivs(H, mode,
+                                                     (bg_vec2){qst[lane][0], qst[lane][1]}, dx, dy)
+                          : (bg_vec2){0, 0};
     dB[0] = S->tex->amplitude * d.x, dB[1] = S->tex->amplitude * d.y;
 }
 
-/* Tangent-space normal mapping with the interpolated per-vertex frame: t from
- * the vertex tangents made orthogonal to n, b = sign n x t, and the map's
- * normal as a surface gradient (bg_surfgrad_from_tangent_normal) resolved. */
+/* Tangent-space normal mapping in mikkTSpace frames, as its pixel shader
+ * decodes ("fast transform out", mikktspace.h): the corner tangents, signs and
+ * vertex normals interpolated unnormalized, b = sign n x t, normalize(m.x t +
+ * m.y b + m.z n) (bgt_mikk_frame_at, bgt_mikk_decode: the same functions the
+ * baker of `bumpgrad mesh` inverts). n is the hit's shading normal, which
+ * trace() turns to the viewer on a two-sided mesh: the decoded normal turns
+ * with it. */
 static bg_vec3 tex_normalmap(const render_scene *S, int prim, const float bc[2], const float st[2],
                              const float n[3])
 {
-    const render_textures *X = S->tex;
-    const float *T4 = S->mesh->tan + (size_t)prim * 12;
-    float b0 = 1.0f - bc[0] - bc[1], t[3], sign = T4[3];
-    for (int a = 0; a < 3; a++)
-        t[a] = b0 * T4[a] + bc[0] * T4[4 + a] + bc[1] * T4[8 + a];
-    float dn = bg_f3_dot(t, n);
-    for (int a = 0; a < 3; a++)
-        t[a] -= dn * n[a];
-    if (!bg_f3_normalize(t))
-        return v3(n);
-    float b[3];
-    bg_f3_cross(n, t, b);
-    for (int a = 0; a < 3; a++)
-        b[a] *= sign;
+    const render_material *X = render_tex_material(S->tex, S->mesh, prim);
+    if (!X->nmap[0].texels)
+        return v3(n); /* a material without a normal map: unperturbed */
+    const float *T4 = S->mesh->tan + (size_t)prim * 12, *N = S->mesh->nrm + (size_t)prim * 9;
+    const float *tc[3] = {T4, T4 + 4, T4 + 8}, *nc[3] = {N, N + 3, N + 6};
+    const double w[3] = {1.0f - bc[0] - bc[1], bc[0], bc[1]};
+    bgt_mikk_frame f;
+    bgt_mikk_frame_at(tc, nc, w, &f);
     bg_vec2 q = {st[0], st[1]};
-    bg_vec3 m = {bg_height_texture_sample(&X->nmap[0], q), bg_height_texture_sample(&X->nmap[1], q),
-                 bg_height_texture_sample(&X->nmap[2], q)};
-    bg_vec3 g = bg_surfgrad_from_tangent_normal(v3(t), v3(b), m);
-    return bg_resolve_normal(v3(n), &g, NULL, 1);
+    const double m[3] = {bg_height_texture_sample(&X->nmap[0], q),
+                         bg_height_texture_sample(&X->nmap[1], q),
+                         bg_height_texture_sample(&X->nmap[2], q)};
+    double out[3];
+    if (bgt_mikk_decode(&f, m, out) != 0)
+        return v3(n);
+    const double side = f.n[0] * n[0] + f.n[1] * n[1] + f.n[2] * n[2] < 0 ? -1.0 : 1.0;
+    return (bg_vec3){(float)(side * out[0]), (float)(side * out[1]), (float)(side * out[2])};
 }
 
 static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
@@ -395,15 +404,9 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             for (int c = 0; c < 2; c++)
                 T->st[k * 2 + c] =
                     (b0 * UV[c] + bc[0] * UV[2 + c] + bc[1] * UV[4 + c]) * S->tex->st_scale;
-            if (C->tex_ref && S->tex->height.texels) {
+            if (C->tex_ref) {
                 bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, T->n + k * 3);
                 put3(bg_resolve_normal(v3(T->n + k * 3), &g, NULL, 1), T->ref + k * 3);
-            } else if (C->tex_ref && S->tex->nmap[0].texels) {
-                /* Only a normal map: it is its own reference. */
-                put3(tex_normalmap(S, T->prim[k], T->bc + k * 2, T->st + k * 2, T->n + k * 3),
-                     T->ref + k * 3);
-            } else if (C->tex_ref) {
-                memcpy(T->ref + k * 3, T->n + k * 3, 3 * sizeof(float));
             }
         }
 
@@ -609,7 +612,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                     break;
                 }
                 float sS[3], sT[3], dB[2];
-                quad_listing2(S, (const float(*)[3])(T->qp + k * 12),
+                quad_listing2(S, T->prim[k], (const float(*)[3])(T->qp + k * 12),
                               (const float(*)[2])(T->qst + k * 8), lane,
                               M == RENDER_LISTING1_HEIGHTMAP_CENTRAL ? BG_DIFF_CENTRAL : BG_DIFF_FORWARD,
                               sS, sT, dB);
@@ -649,7 +652,7 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
     const float inv = 1.0f / (float)(ss * ss);
     for (int mi = 0; mi < J->nmethods; mi++) {
         const float *out = T->out + (size_t)mi * ns * 3;
-        const int use_albedo = textured && (J->albedo_mask >> mi & 1u) && S->tex->albedo[0].texels;
+        const int use_albedo = textured && (J->albedo_mask >> mi & 1u);
         for (int py = py0; py < py0 + TILE && py < J->height_px; py++)
             for (int px = px0; px < px0 + TILE && px < J->width; px++) {
                 float acc[3] = {0, 0, 0}, esum = 0;
@@ -663,10 +666,13 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                         if (T->hit[k]) {
                             const float *o = out + k * 3;
                             float alb[3];
-                            if (use_albedo) {
+                            const bg_height_texture *A =
+                                use_albedo ? render_tex_material(S->tex, S->mesh, T->prim[k])->albedo
+                                           : NULL;
+                            if (A && A[0].texels) {
                                 bg_vec2 q = {T->st[k * 2], T->st[k * 2 + 1]};
                                 for (int a = 0; a < 3; a++)
-                                    alb[a] = bg_height_texture_sample(&S->tex->albedo[a], q);
+                                    alb[a] = bg_height_texture_sample(&A[a], q);
                             } else {
                                 memcpy(alb, grey_albedo, sizeof alb);
                             }
@@ -747,8 +753,13 @@ bg_status render_run(render_job *job)
             job->methods[i] == RENDER_FLAT || job->methods[i] == RENDER_LISTING1_HEIGHTMAP ||
             job->methods[i] == RENDER_LISTING1_HEIGHTMAP_CENTRAL || job->methods[i] == RENDER_DETAIL)
             C.need_quads = 1;
+    /* A textured job with a height texture is compared with eq. 3 of that
+     * texture (surfgrad-heightmap); one with only a normal map with the solid
+     * height's analytic surface gradient, what a map baked from that height
+     * (bumpgrad mesh --bake-normal-map) encodes. */
+    const int has_height = job->scene->tex && job->scene->tex->any_height;
     for (int i = 0; i < job->nmethods; i++) {
-        C.tex_ref |= render_method_textured(job->methods[i]);
+        C.tex_ref |= render_method_textured(job->methods[i]) && has_height;
         C.need_detail |= job->methods[i] == RENDER_DETAIL;
         C.need_solid |= !render_method_textured(job->methods[i]) && job->methods[i] != RENDER_NONE;
     }

@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 #include "render/render.h"
@@ -31,8 +32,8 @@ static double now_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-bg_status render_embree_build(const render_mesh *m, render_embree **out, double *build_seconds,
-                              bgt_err *e)
+bg_status render_embree_build(const render_mesh *m, int threads, render_embree **out,
+                              double *build_seconds, bgt_err *e)
 {
     *out = NULL;
     if (m->ntri > (size_t)UINT32_MAX / 3)
@@ -41,8 +42,14 @@ bg_status render_embree_build(const render_mesh *m, render_embree **out, double 
     render_embree *r = calloc(1, sizeof *r);
     if (!r)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-    /* Embree's own threads: verbose=0; its task scheduler uses every core. */
-    r->device = rtcNewDevice("verbose=0");
+    /* Embree's build threads: as many as the render's (--threads), else its
+     * task scheduler's default, every core. */
+    char cfg[64];
+    if (threads > 0)
+        snprintf(cfg, sizeof cfg, "verbose=0,threads=%d", threads);
+    else
+        snprintf(cfg, sizeof cfg, "verbose=0");
+    r->device = rtcNewDevice(cfg);
     if (!r->device) {
         free(r);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "embree: cannot create a device");
@@ -123,10 +130,10 @@ struct render_embree {
 
 int render_embree_available(void) { return 0; }
 
-bg_status render_embree_build(const render_mesh *m, render_embree **out, double *build_seconds,
-                              bgt_err *e)
+bg_status render_embree_build(const render_mesh *m, int threads, render_embree **out,
+                              double *build_seconds, bgt_err *e)
 {
-    (void)m, (void)build_seconds;
+    (void)m, (void)threads, (void)build_seconds;
     *out = NULL;
     return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                     "--tracer embree: this bumpgrad was built without Embree (libembree-dev)");

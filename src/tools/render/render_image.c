@@ -42,6 +42,18 @@ void render_opts_default(render_opts *o)
 
 /* The presets set a scene and height; the numbers were chosen by looking at
  * the renders (docs/FIGURES.md) so that each shows what its figure shows. */
+/* A two-method comparison of a built-in scene with a solid height. */
+static void preset_solid(render_opts *o, render_shape shape, bg_function func, float frequency,
+                         float amplitude, render_method a, render_method b)
+{
+    o->shape = shape;
+    o->h.h.fractal = bg_fractal_default(func);
+    o->h.h.frequency = frequency;
+    o->h.h.amplitude = amplitude;
+    o->nmethods = 2, o->compare = 1;
+    o->methods[0] = a, o->methods[1] = b;
+}
+
 void render_apply_preset(render_opts *o)
 {
     bg_height *h = &o->h.h;
@@ -49,37 +61,23 @@ void render_apply_preset(render_opts *o)
     case PRESET_FIG1:
         /* Figure 1: a coarse isosurface so the facets of (a) are visible; the
          * height detail is 6-octave turbulence as in section 6. */
-        o->shape = RENDER_BLOB;
+        preset_solid(o, RENDER_BLOB, BG_FUNC_TURBULENCE, 1.5f, 0.03f, RENDER_FLAT, RENDER_LISTING1);
         o->grid = 14;
-        h->fractal = bg_fractal_default(BG_FUNC_TURBULENCE);
-        h->frequency = 1.5f;
-        h->amplitude = 0.03f;
-        o->nmethods = 2, o->compare = 1;
-        o->methods[0] = RENDER_FLAT, o->methods[1] = RENDER_LISTING1;
         break;
     case PRESET_FIG2:
         /* Figure 2: low-frequency noise, strong enough that n.grad h exceeds 1
          * where the slope faces away, the case where additive turns inward. */
-        o->shape = RENDER_SPHERE;
-        h->fractal = bg_fractal_default(BG_FUNC_NOISE);
-        h->frequency = 1.5f;
-        h->amplitude = 0.4f;
+        preset_solid(o, RENDER_SPHERE, BG_FUNC_NOISE, 1.5f, 0.4f, RENDER_ADDITIVE, RENDER_SURFGRAD);
         o->heat_max = 60.0f;
         /* A frontal light, so that the inward normals of (a) show as black
          * where (b) is lit. */
         o->light[0] = -4.0f, o->light[1] = 5.0f, o->light[2] = 6.0f;
-        o->nmethods = 2, o->compare = 1;
-        o->methods[0] = RENDER_ADDITIVE, o->methods[1] = RENDER_SURFGRAD;
         break;
     case PRESET_FIG3:
         /* Figure 3: 6-octave turbulence on a sphere; the close-up row magnifies
          * a crop, where Listing 1's quad derivatives show (3c vs 3d). */
-        o->shape = RENDER_SPHERE;
-        h->fractal = bg_fractal_default(BG_FUNC_TURBULENCE);
-        h->frequency = 0.5f;
-        h->amplitude = 0.12f;
-        o->nmethods = 2, o->compare = 1;
-        o->methods[0] = RENDER_LISTING1, o->methods[1] = RENDER_SURFGRAD;
+        preset_solid(o, RENDER_SPHERE, BG_FUNC_TURBULENCE, 0.5f, 0.12f, RENDER_LISTING1,
+                     RENDER_SURFGRAD);
         o->closeup = 4;
         o->sweep = 1;
         break;
@@ -435,7 +433,7 @@ static const char *const fig4_caption[6] = {
     "(a) Listing 1, height map", "(b) normal mapping", "(c) no perturbation",
     "(d) Listing 1 + albedo",    "(e) undersampling",  "(f) with detail"};
 static const char *const fig4_sub[6] = {
-    "Listing 2 taps", "per-vertex tangents", "unperturbed normals", "albedo texture",
+    "Listing 2 taps", "mikkTSpace frames", "unperturbed normals", "albedo texture",
     "close-up, magnified texture", "+ turbulence, resolved"};
 
 static bg_status compose_fig4(const render_job *full, const render_job *close,
@@ -544,7 +542,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
         scene.mesh = &mesh;
     }
     if (scene.mesh && use_embree) {
-        if ((rc = render_embree_build(&mesh, &rtc, &r->build_seconds, e)) != BG_OK) {
+        if ((rc = render_embree_build(&mesh, o->threads, &rtc, &r->build_seconds, e)) != BG_OK) {
             render_mesh_free(&mesh);
             render_textures_free(&tex);
             return rc;
@@ -667,7 +665,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
     } else if (o->compare) {
         int texref = 0;
         for (int m = 0; m < job.nmethods; m++)
-            texref |= render_method_textured(job.methods[m]);
+            texref |= render_method_textured(job.methods[m]) && tex.any_height; /* render_run */
         if ((rc = compose_panel(o, &job, st, stamp, texref ? "surfgrad-heightmap" : "surfgrad",
                                 &canvas, e)) != BG_OK)
             goto done;

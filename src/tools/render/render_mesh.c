@@ -326,6 +326,13 @@ bg_status render_mesh_bvh(render_mesh *m)
         bvh_build bb = {m->nodes, 1, idx, cen, pos};
         bvh_node(&bb, 0, 0, (int)n);
         m->nnodes = bb.nnodes;
+        if (m->mat) {
+            /* the material ids follow their triangles (the scratch cen holds n * 3 floats) */
+            uint32_t *mt = (uint32_t *)(void *)cen;
+            for (size_t t = 0; t < n; t++)
+                mt[t] = m->mat[idx[t]];
+            memcpy(m->mat, mt, n * sizeof *mt);
+        }
         float **arrs[4] = {&m->pos, &m->nrm, &m->uv, &m->tan};
         static const size_t per[4] = {9, 9, 6, 12};
         for (int i = 0; i < 4; i++) {
@@ -357,6 +364,7 @@ static void face_normals(render_mesh *m)
 
 void render_mesh_free(render_mesh *m)
 {
+    free(m->mat);
     free(m->uv);
     free(m->tan);
     free(m->pos);

@@ -4,11 +4,9 @@
  * texture methods of Mikkelsen 2010 section 6 / Figure 4:
  *  - the mesh is centred and scaled into the unit sphere (automatic framing:
  *    the camera of the built-in scenes then sees all of it);
- *  - vertex normals from the file, or area-weighted face normals when it has
- *    none; per-vertex tangents from the UVs (the classic per-triangle dP/ds
- *    accumulated at the vertices, Gram-Schmidt against the normal, handedness
- *    from dP/dt), computed here: the mikkTSpace frames of src/tools/mesh are
- *    not in the tools library yet;
+ *  - vertex normals from the file, or angle-weighted ones when it has none,
+ *    and per-corner mikkTSpace tangents and signs (src/tools/mesh: the frames
+ *    `bumpgrad mesh --bake-normal-map` bakes in, so its maps render as baked);
  *  - textures from --height-map/--normal-map/--albedo, else from an OBJ's
  *    material library (the first map_bump/bump, norm and map_Kd found: the
  *    loader flattens all meshes and keeps no per-triangle material, so one
@@ -27,6 +25,7 @@
 #include <string.h>
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
+#include "mesh/mesh_tool.h"
 #include "render/render.h"
 #include "vecmath.h"
 
@@ -38,18 +37,58 @@ int render_method_textured(render_method m)
 
 void render_textures_free(render_textures *t)
 {
-    for (int i = 0; i < 7; i++)
-        free(t->owned[i]);
+    for (size_t m = 0; m < t->nmat; m++)
+        for (int i = 0; i < 7; i++)
+            free(t->mat[m].owned[i]);
+    free(t->mat);
     memset(t, 0, sizeof *t);
 }
 
-/* ---- the OBJ material library: the first texture of each kind ---- */
-static void mtl_find(const char *obj_path, char *height, char *nmap, char *albedo, size_t len)
+/* Append a, b, c to the report line, truncating at its end; b is a path
+ * (or ""), shown without its folder when it came from the material library
+ * (*at's line then lists a set per material). */
+static void desc_add(char *desc, size_t len, size_t *at, int desc_short, const char *a,
+                     const char *b, const char *c)
 {
-    height[0] = nmap[0] = albedo[0] = '\0';
+    if (*at + 1 >= len)
+        return;
+    const char *slash = desc_short ? strrchr(b, '/') : NULL;
+    b = slash ? slash + 1 : b;
+    int n = snprintf(desc + *at, len - *at, "%s%s%s", a, b, c);
+    *at = n < 0 ? *at : *at + (size_t)n < len ? *at + (size_t)n : len - 1;
+}
+
+/* ---- the materials of an OBJ ----
+ * bg_mesh carries no per-triangle material (src/io/mesh.cc flattens assimp's
+ * aiMeshes, one per material, into one list), so until it does (the interface
+ * proposed in docs/FIGURES.md) the renderer reads them from the OBJ itself:
+ * the textures of every newmtl of its material library, and the usemtl in
+ * force at each face. */
+typedef struct mtl_entry {
+    char name[256];
+    char height[1024], nmap[1024], albedo[1024];
+} mtl_entry;
+
+/* The folder of `path` with its trailing slash ("" for none). */
+static void path_dir(const char *path, char *dir, size_t len)
+{
+    snprintf(dir, len, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[1] = '\0';
+    else
+        dir[0] = '\0';
+}
+
+/* Every material of the library the OBJ's first mtllib names, with its first
+ * map_bump/bump, norm/map_Kn and map_Kd (paths resolved against the library's
+ * folder). *out is malloc'ed; returns the count, 0 when there is none. */
+static size_t mtl_read(const char *obj_path, mtl_entry **out)
+{
+    *out = NULL;
     FILE *f = fopen(obj_path, "r");
     if (!f)
-        return;
+        return 0;
     char line[1024], lib[1024] = "";
     while (fgets(line, sizeof line, f))
         if (strncmp(line, "mtllib", 6) == 0 && isspace((unsigned char)line[6])) {
@@ -63,37 +102,51 @@ static void mtl_find(const char *obj_path, char *height, char *nmap, char *albed
         }
     fclose(f);
     if (!lib[0])
-        return;
-    char dir[1024];
-    snprintf(dir, sizeof dir, "%s", obj_path);
-    char *slash = strrchr(dir, '/');
-    if (slash)
-        slash[1] = '\0';
-    else
-        dir[0] = '\0';
-    char mtl[2100];
+        return 0;
+    char dir[1024], mtl[2100];
+    path_dir(obj_path, dir, sizeof dir);
     snprintf(mtl, sizeof mtl, "%s%s", dir, lib);
     if (!(f = fopen(mtl, "r")))
-        return;
+        return 0;
+    size_t n = 0, cap = 0;
+    mtl_entry *m = NULL;
     while (fgets(line, sizeof line, f)) {
         char *s = line;
         while (isspace((unsigned char)*s))
             s++;
+        size_t len = strcspn(s, "\r\n");
+        s[len] = '\0';
+        while (len > 0 && isspace((unsigned char)s[len - 1]))
+            s[--len] = '\0';
+        if (strncmp(s, "newmtl", 6) == 0 && isspace((unsigned char)s[6])) {
+            if (n == cap) {
+                size_t nc = cap ? 2 * cap : 8;
+                mtl_entry *g = realloc(m, nc * sizeof *m);
+                if (!g)
+                    break;
+                m = g, cap = nc;
+            }
+            memset(&m[n], 0, sizeof m[n]);
+            char *name = s + 6;
+            while (isspace((unsigned char)*name))
+                name++;
+            snprintf(m[n].name, sizeof m[n].name, "%s", name);
+            n++;
+            continue;
+        }
+        if (n == 0)
+            continue;
         char *dst = NULL;
         if ((strncmp(s, "map_bump", 8) == 0 || strncmp(s, "map_Bump", 8) == 0 ||
-             strncmp(s, "bump", 4) == 0) && !height[0])
-            dst = height;
-        else if ((strncmp(s, "norm", 4) == 0 || strncmp(s, "map_Kn", 6) == 0) && !nmap[0])
-            dst = nmap;
-        else if (strncmp(s, "map_Kd", 6) == 0 && !albedo[0])
-            dst = albedo;
+             strncmp(s, "bump", 4) == 0) && !m[n - 1].height[0])
+            dst = m[n - 1].height;
+        else if ((strncmp(s, "norm", 4) == 0 || strncmp(s, "map_Kn", 6) == 0) && !m[n - 1].nmap[0])
+            dst = m[n - 1].nmap;
+        else if (strncmp(s, "map_Kd", 6) == 0 && !m[n - 1].albedo[0])
+            dst = m[n - 1].albedo;
         if (!dst)
             continue;
         /* The file name is the last word (options such as -bm 0.5 come first). */
-        size_t n = strcspn(s, "\r\n");
-        s[n] = '\0';
-        while (n > 0 && isspace((unsigned char)s[n - 1]))
-            s[--n] = '\0';
         char *name = strrchr(s, ' '), *tab = strrchr(s, '\t');
         if (tab && (!name || tab > name))
             name = tab;
@@ -105,9 +158,117 @@ static void mtl_find(const char *obj_path, char *height, char *nmap, char *albed
                 *c = '/'; /* spider.mtl: "map_Kd .\wal67ar_small.jpg" */
         if (strncmp(name, "./", 2) == 0)
             name += 2;
-        snprintf(dst, len, "%s%s", name[0] == '/' ? "" : dir, name);
+        snprintf(dst, sizeof m[n - 1].height, "%s%s", name[0] == '/' ? "" : dir, name);
     }
     fclose(f);
+    *out = m;
+    return m ? n : 0;
+}
+
+static int close_to(float a, double b)
+{
+    return fabs((double)a - b) <= 1e-5 * (1.0 + fabs(b));
+}
+
+/* Material of every triangle of the OBJ (index into mt, nmt for "none": no
+ * usemtl yet or a name the library lacks), in the order assimp's importer
+ * emits them: the faces in file order, a polygon of k corners as k - 2
+ * triangles. Verified against the loaded mesh: the counts agree and every
+ * triangle's corners are corners of its face (so any triangulation of a
+ * polygon passes). 1 with ids[] filled, 0 when the OBJ cannot be read that way
+ * or does not match (the caller then gives all triangles one material). */
+static int obj_material_ids(const char *obj_path, const mtl_entry *mt, size_t nmt,
+                            const bg_mesh *bm, uint32_t *ids)
+{
+    FILE *f = fopen(obj_path, "r");
+    if (!f)
+        return 0;
+    float *v = NULL;
+    size_t nv = 0, vcap = 0, tri = 0;
+    uint32_t cur = (uint32_t)nmt;
+    int ok = 1;
+    char line[4096];
+    while (ok && fgets(line, sizeof line, f)) {
+        if (!strchr(line, '\n') && !feof(f)) {
+            ok = 0; /* a line longer than the buffer */
+            break;
+        }
+        char *s = line;
+        while (isspace((unsigned char)*s))
+            s++;
+        if (s[0] == 'v' && isspace((unsigned char)s[1])) {
+            if (nv == vcap) {
+                size_t nc = vcap ? 2 * vcap : 1024;
+                float *g = realloc(v, nc * 3 * sizeof *v);
+                if (!g) {
+                    ok = 0;
+                    break;
+                }
+                v = g, vcap = nc;
+            }
+            char *end = s + 1;
+            for (int a = 0; a < 3; a++)
+                v[nv * 3 + a] = strtof(end, &end);
+            nv++;
+        } else if (strncmp(s, "usemtl", 6) == 0 && isspace((unsigned char)s[6])) {
+            char *name = s + 6;
+            while (isspace((unsigned char)*name))
+                name++;
+            name[strcspn(name, "\r\n")] = '\0';
+            size_t len = strlen(name);
+            while (len > 0 && isspace((unsigned char)name[len - 1]))
+                name[--len] = '\0';
+            cur = (uint32_t)nmt;
+            for (size_t i = 0; i < nmt; i++)
+                if (strcmp(mt[i].name, name) == 0) {
+                    cur = (uint32_t)i;
+                    break;
+                }
+        } else if (s[0] == 'f' && isspace((unsigned char)s[1])) {
+            long corner[64];
+            int k = 0;
+            char *p = s + 1;
+            while (*p) {
+                while (isspace((unsigned char)*p))
+                    p++;
+                if (!*p)
+                    break;
+                char *end;
+                long idx = strtol(p, &end, 10);
+                if (end == p || k == 64 || idx == 0) {
+                    ok = 0;
+                    break;
+                }
+                corner[k++] = idx > 0 ? idx - 1 : (long)nv + idx;
+                while (*end && !isspace((unsigned char)*end))
+                    end++; /* past /vt/vn */
+                p = end;
+            }
+            for (int c = 0; ok && c < k; c++)
+                ok = corner[c] >= 0 && (size_t)corner[c] < nv;
+            for (int t = 0; ok && t < k - 2; t++, tri++) {
+                if (tri >= bm->triangle_count) {
+                    ok = 0;
+                    break;
+                }
+                for (int j = 0; ok && j < 3; j++) {
+                    uint32_t q = bm->indices[tri * 3 + j];
+                    int found = 0;
+                    for (int c = 0; !found && c < k; c++) {
+                        const float *P = v + corner[c] * 3;
+                        found = q < bm->vertex_count && close_to(bm->px[q], P[0]) &&
+                                close_to(bm->py[q], P[1]) && close_to(bm->pz[q], P[2]);
+                    }
+                    ok = found;
+                }
+                if (ok)
+                    ids[tri] = cur;
+            }
+        }
+    }
+    fclose(f);
+    free(v);
+    return ok && tri == bm->triangle_count;
 }
 
 static float srgb_to_linear(float c)
@@ -207,7 +368,128 @@ void render_tex_st(const render_mesh *m, const render_textures *tx, int prim, co
                         tx->st_scale);
 }
 
+/* Texel conversions of image pixels (px: one pixel's `n` stored values). */
+static float texel_albedo(const float *px, int n, int ch)
+{
+    return srgb_to_linear(px[ch < n ? ch : 0]);
+}
+static float texel_height(const float *px, int n, int ch)
+{
+    (void)ch;
+    return gray(px, n);
+}
+static float texel_normal(const float *px, int n, int ch)
+{
+    /* Stored 0.5 m + 0.5 with +y up the image (OpenGL), i.e. along +v: the
+     * mikkTSpace bitangent sign * n x t, which points along dP/dv (bumpgrad
+     * mesh --bake-normal-map writes this). */
+    (void)n;
+    return 2.0f * px[ch] - 1.0f;
+}
+
+/* Convert img into `nch` textures (tex[c] owning owned[c]) with `texel`,
+ * and free img. BG_OK or BG_ERR_OUT_OF_MEMORY. */
+static bg_status image_to_textures(bg_image *img, int nch,
+                                   float (*texel)(const float *, int, int), float **owned,
+                                   bg_height_texture *tex, bgt_err *e)
+{
+    size_t np_ = (size_t)img->width * img->height;
+    for (int ch = 0; ch < nch; ch++) {
+        float *tx = malloc((np_ ? np_ : 1) * sizeof(float));
+        if (!tx) {
+            bg_image_free(img);
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        for (size_t i = 0; i < np_; i++)
+            tx[i] = texel(img->pixels + i * img->channels, img->channels, ch);
+        owned[ch] = tx;
+        tex[ch] = (bg_height_texture){img->width, img->height, tx, BG_WRAP_REPEAT};
+    }
+    bg_image_free(img);
+    return BG_OK;
+}
+
+/* The texture set of one material: the albedo (sRGB to linear), the height
+ * (the height map's gray level, else the albedo's: the seed's diffuse-to-height
+ * method) and the tangent-space normal map (the file, else baked from the
+ * height). hp, np, ap: paths or NULL. ls, lt: the mesh's mean |dP/ds|, |dP/dt|. */
+static bg_status load_material(const render_opts *o, const char *hp, const char *np,
+                               const char *ap, int want_nmap, double ls, double lt,
+                               const render_textures *t, render_material *M, char *desc,
+                               size_t desclen, size_t *dl, int short_names, bgt_err *e)
+{
+    bg_image img;
+    bg_status s;
+    if (ap && !o->no_albedo) {
+        if ((s = read_texture("--albedo", ap, &img, e)) != BG_OK ||
+            (s = image_to_textures(&img, 3, texel_albedo, M->owned, M->albedo, e)) != BG_OK)
+            return s;
+        desc_add(desc, desclen, dl, short_names, " albedo=", ap, "");
+    }
+    const char *hsrc = hp ? hp : ap;
+    if (hsrc) {
+        if ((s = read_texture(hp ? "--height-map" : "--albedo", hsrc, &img, e)) != BG_OK ||
+            (s = image_to_textures(&img, 1, texel_height, M->owned + 3, &M->height, e)) != BG_OK)
+            return s;
+        desc_add(desc, desclen, dl, short_names, " height=", hsrc, hp ? "" : "(gray-of-albedo)");
+    }
+    if (want_nmap && np) {
+        if ((s = read_texture("--normal-map", np, &img, e)) != BG_OK)
+            return s;
+        if (img.channels < 3) {
+            bg_image_free(&img);
+            return bgt_fail(e, BG_ERR_FORMAT, "--normal-map \"%s\": needs 3 channels, has %d", np,
+                            img.channels);
+        }
+        if ((s = image_to_textures(&img, 3, texel_normal, M->owned + 4, M->nmap, e)) != BG_OK)
+            return s;
+        desc_add(desc, desclen, dl, short_names, " normalmap=", np, "");
+    } else if (want_nmap && M->height.texels) {
+        /* Bake the tangent-space normal map of the height texture (the seed's
+         * diffuse-to-normal step, bumpgrad heightmap): slopes per unit length
+         * along unit tangents, using the mesh's average |dP/ds|, |dP/dt| (a
+         * normal map stores one scale for the whole surface; that is the
+         * approximation normal mapping makes, visible where the UV chart
+         * stretches). */
+        const int W = M->height.width, H = M->height.height;
+        const float *h = M->height.texels;
+        float ks = (float)(t->amplitude * W * t->st_scale / (ls > 0 ? ls : 1)),
+              kt = (float)(t->amplitude * H * t->st_scale / (lt > 0 ? lt : 1));
+        /* d/ds of the texture in st_scale-scaled coordinates: beta_s per texel * W;
+         * |dP/ds| of the scaled chart is ls / st_scale. */
+        for (int ch = 0; ch < 3; ch++) {
+            M->owned[4 + ch] = malloc((size_t)W * H * sizeof(float));
+            if (!M->owned[4 + ch])
+                return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+            M->nmap[ch] = (bg_height_texture){W, H, M->owned[4 + ch], BG_WRAP_REPEAT};
+        }
+        for (int j = 0; j < H; j++)
+            for (int i = 0; i < W; i++) {
+                float a = 0.5f * (h[(size_t)j * W + (i + 1) % W] - h[(size_t)j * W + (i + W - 1) % W]);
+                float b = 0.5f * (h[(size_t)((j + 1) % H) * W + i] - h[(size_t)((j + H - 1) % H) * W + i]);
+                /* b is d/dt down the rows, = -d/dv: m.y = -dh/dv = +kt b
+                 * (green up, the frame of the decoding in render_core). */
+                float n[3] = {-ks * a, kt * b, 1.0f};
+                bg_f3_normalize(n);
+                for (int ch = 0; ch < 3; ch++)
+                    M->owned[4 + ch][(size_t)j * W + i] = n[ch];
+            }
+        desc_add(desc, desclen, dl, short_names, " normalmap=baked-from-height", "", "");
+    }
+    return BG_OK;
+}
+
 /* ---- loading ---- */
+/* Triangle I (3 indices) has its corners in range and finite: others are dropped. */
+static int tri_finite(const uint32_t *I, const float *vp, size_t nv)
+{
+    int ok = 1;
+    for (int k = 0; k < 3; k++)
+        ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
+              isfinite(vp[I[k] * 3 + 2]);
+    return ok;
+}
+
 bg_status render_load_mesh(const render_opts *o, render_mesh *m,
                            render_textures *t, char *desc, size_t desclen, bgt_err *e)
 {
@@ -254,11 +536,25 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
                         o->mesh_path);
     }
-    /* Vertex attributes: normalized positions, unit normals, tangents. */
-    float *vp = malloc(nv * 3 * sizeof(float)), *vn = calloc(nv * 3, sizeof(float));
-    float *vt = bm.u ? calloc(nv * 3, sizeof(float)) : NULL, *vb = bm.u ? calloc(nv * 3, sizeof(float)) : NULL;
-    if (!vp || !vn || (bm.u && (!vt || !vb))) {
-        free(vp), free(vn), free(vt), free(vb);
+    /* Vertex attributes: normalized positions, and the unit vertex normals of
+     * the mesh tool (mesh_frames.c: the file's, renormalized, else
+     * angle-weighted), so that a normal map baked by `bumpgrad mesh` is decoded
+     * here in the frame it was baked in. */
+    float *vp = malloc(nv * 3 * sizeof(float)), *vn = malloc(nv * 3 * sizeof(float));
+    float *sn = malloc((nv ? nv : 1) * 3 * sizeof(float));
+    if (!vp || !vn || !sn) {
+        free(vp), free(vn), free(sn);
+        bg_mesh_free(&bm);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    float *snx = sn, *sny = sn + nv, *snz = sn + 2 * nv;
+    if (bm.nx) {
+        memcpy(snx, bm.nx, nv * sizeof(float));
+        memcpy(sny, bm.ny, nv * sizeof(float));
+        memcpy(snz, bm.nz, nv * sizeof(float));
+        mesh_normalize_normals(nv, snx, sny, snz);
+    } else if (mesh_vertex_normals(&bm, snx, sny, snz) == (size_t)-1) {
+        free(vp), free(vn), free(sn);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
@@ -266,63 +562,67 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         vp[i * 3] = (float)((bm.px[i] - c[0]) / rad);
         vp[i * 3 + 1] = (float)((bm.py[i] - c[1]) / rad);
         vp[i * 3 + 2] = (float)((bm.pz[i] - c[2]) / rad);
+        vn[i * 3] = snx[i], vn[i * 3 + 1] = sny[i], vn[i * 3 + 2] = snz[i];
+        /* (0,0,0): the face normal is used there (render_core trace) */
     }
-    size_t keep = 0;
-    for (size_t f = 0; f < bm.triangle_count; f++) {
-        const uint32_t *I = bm.indices + f * 3;
-        int ok = 1;
-        for (int k = 0; k < 3; k++)
-            ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
-                  isfinite(vp[I[k] * 3 + 2]);
-        if (!ok)
-            continue;
-        keep++;
-        const float *A = vp + I[0] * 3, *B = vp + I[1] * 3, *C = vp + I[2] * 3;
-        float e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]}, e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-        float fn[3];
-        bg_f3_cross(e1, e2, fn); /* length = twice the area: area weighting */
-        if (!bm.nx)
-            for (int k = 0; k < 3; k++)
-                for (int a = 0; a < 3; a++)
-                    vn[I[k] * 3 + a] += fn[a];
-        if (bm.u) {
-            float P[9], st[6], ds[3], dt[3];
-            for (int k = 0; k < 3; k++) {
-                memcpy(P + k * 3, vp + I[k] * 3, 3 * sizeof(float));
-                st[k * 2] = bm.u[I[k]], st[k * 2 + 1] = 1.0f - bm.v[I[k]];
-            }
-            if (tri_chart(P, st, ds, dt)) {
-                float area = sqrtf(bg_f3_dot(fn, fn));
-                bg_f3_normalize(ds);
-                bg_f3_normalize(dt);
-                for (int k = 0; k < 3; k++)
-                    for (int a = 0; a < 3; a++) {
-                        vt[I[k] * 3 + a] += area * ds[a];
-                        vb[I[k] * 3 + a] += area * dt[a];
-                    }
-            }
+    /* Per-corner mikkTSpace tangents and signs (mikktspace.h), of the file's
+     * positions and UVs and the normals above: the frames `bumpgrad mesh
+     * --bake-normal-map` encodes in (mesh_bake.c). Only the normalmap method
+     * reads them, and a million triangles take seconds (docs/FIGURES.md,
+     * scale): computed only for it. */
+    const int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
+    float *ctan = NULL;
+    if (bm.u && want_nmap) {
+        ctan = malloc((bm.triangle_count ? bm.triangle_count : 1) * 12 * sizeof(float));
+        bgt_mikk_mesh mm = {nv, bm.triangle_count, bm.indices, bm.px, bm.py, bm.pz,
+                            snx, sny, snz, bm.u, bm.v};
+        s = ctan ? bgt_mikk_tangents(&mm, ctan, NULL) : BG_ERR_OUT_OF_MEMORY;
+        if (s != BG_OK) {
+            free(vp), free(vn), free(sn), free(ctan);
+            bg_mesh_free(&bm);
+            return bgt_fail(e, s, "--mesh \"%s\": mikkTSpace tangents failed (%s)", o->mesh_path,
+                            bg_status_string(s));
         }
     }
-    if (bm.nx)
-        for (size_t i = 0; i < nv; i++)
-            vn[i * 3] = bm.nx[i], vn[i * 3 + 1] = bm.ny[i], vn[i * 3 + 2] = bm.nz[i];
-    for (size_t i = 0; i < nv; i++) {
-        float *n = vn + i * 3;
-        if (!isfinite(n[0]) || !isfinite(n[1]) || !isfinite(n[2]) || !bg_f3_normalize(n))
-            n[0] = n[1] = n[2] = 0.0f; /* the face normal is used there (render_core trace) */
+    free(sn);
+    size_t keep = 0;
+    for (size_t f = 0; f < bm.triangle_count; f++) {
+        keep += tri_finite(bm.indices + f * 3, vp, nv);
     }
     if (keep == 0) {
-        free(vp), free(vn), free(vt), free(vb);
+        free(vp), free(vn), free(ctan);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no triangle with finite corners",
                         o->mesh_path);
     }
+    /* Materials: per triangle from the OBJ when its faces match the mesh
+     * (obj_material_ids), else one set of the first texture of each kind. */
+    mtl_entry *mt = NULL;
+    size_t nmt = bm.u ? mtl_read(o->mesh_path, &mt) : 0, nsets = 1;
+    uint32_t *ids = nmt > 1 ? malloc((bm.triangle_count ? bm.triangle_count : 1) * sizeof *ids) : NULL;
+    unsigned char *used = NULL;
+    if (ids && obj_material_ids(o->mesh_path, mt, nmt, &bm, ids)) {
+        nsets = nmt + 1; /* and one without textures for faces without a known usemtl */
+    } else {
+        free(ids), ids = NULL;
+        for (size_t i = 1; i < nmt; i++) { /* the first of each kind into mt[0] */
+            if (!mt[0].height[0])
+                memcpy(mt[0].height, mt[i].height, sizeof mt[0].height);
+            if (!mt[0].nmap[0])
+                memcpy(mt[0].nmap, mt[i].nmap, sizeof mt[0].nmap);
+            if (!mt[0].albedo[0])
+                memcpy(mt[0].albedo, mt[i].albedo, sizeof mt[0].albedo);
+        }
+        nmt = nmt ? 1 : 0;
+    }
+    used = calloc(nsets, 1);
+    uint32_t *tmat = ids ? malloc(keep * sizeof *tmat) : NULL;
     float *pos = malloc(keep * 9 * sizeof(float)), *nrm = malloc(keep * 9 * sizeof(float));
     float *uv = bm.u ? malloc(keep * 6 * sizeof(float)) : NULL;
-    float *tan = bm.u ? malloc(keep * 12 * sizeof(float)) : NULL;
-    if (!pos || !nrm || (bm.u && (!uv || !tan))) {
-        free(pos), free(nrm), free(uv), free(tan);
-        free(vp), free(vn), free(vt), free(vb);
+    float *tan = ctan ? malloc(keep * 12 * sizeof(float)) : NULL;
+    if (!pos || !nrm || (bm.u && !uv) || (ctan && !tan) || !used || (ids && !tmat)) {
+        free(pos), free(nrm), free(uv), free(tan), free(mt), free(ids), free(used), free(tmat);
+        free(vp), free(vn), free(ctan);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     }
@@ -330,31 +630,18 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     double len_s = 0, len_t = 0, wsum = 0; /* area-weighted |dP/ds|, |dP/dt| (normal-map bake) */
     for (size_t f = 0; f < bm.triangle_count; f++) {
         const uint32_t *I = bm.indices + f * 3;
-        int ok = 1;
-        for (int k = 0; k < 3; k++)
-            ok &= I[k] < nv && isfinite(vp[I[k] * 3]) && isfinite(vp[I[k] * 3 + 1]) &&
-                  isfinite(vp[I[k] * 3 + 2]);
-        if (!ok)
+        if (!tri_finite(I, vp, nv))
             continue;
+        used[ids ? ids[f] : 0] = 1;
+        if (tmat)
+            tmat[w] = ids[f];
         for (int k = 0; k < 3; k++) {
             memcpy(pos + w * 9 + k * 3, vp + I[k] * 3, 3 * sizeof(float));
             memcpy(nrm + w * 9 + k * 3, vn + I[k] * 3, 3 * sizeof(float));
             if (bm.u) {
                 uv[w * 6 + k * 2] = bm.u[I[k]], uv[w * 6 + k * 2 + 1] = 1.0f - bm.v[I[k]];
-                const float *n = vn + I[k] * 3;
-                float T[3], B[3];
-                memcpy(T, vt + I[k] * 3, sizeof T);
-                memcpy(B, vb + I[k] * 3, sizeof B);
-                float d = bg_f3_dot(T, n);
-                for (int a = 0; a < 3; a++)
-                    T[a] -= d * n[a];
-                if (!bg_f3_normalize(T))
-                    T[0] = T[1] = T[2] = 0.0f;
-                float nxt[3];
-                bg_f3_cross(n, T, nxt);
-                float *o4 = tan + w * 12 + k * 4;
-                memcpy(o4, T, sizeof T);
-                o4[3] = bg_f3_dot(nxt, B) < 0 ? -1.0f : 1.0f;
+                if (ctan)
+                    memcpy(tan + w * 12 + k * 4, ctan + (f * 3 + k) * 4, 4 * sizeof(float));
             }
         }
         if (bm.u) {
@@ -371,125 +658,57 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         }
         w++;
     }
-    free(vp), free(vn), free(vt), free(vb);
+    free(vp), free(vn), free(ctan);
     const int has_uv = bm.u != NULL;
     bg_mesh_free(&bm);
-    if ((s = render_mesh_adopt(m, keep, pos, nrm, uv, tan)) != BG_OK)
+    free(ids);
+    if ((s = render_mesh_adopt(m, keep, pos, nrm, uv, tan)) != BG_OK) {
+        free(mt), free(used), free(tmat);
         return bgt_fail(e, s, "out of memory");
+    }
+    m->mat = tmat;
 
     /* ---- textures ---- */
     t->amplitude = o->tex_amplitude;
     t->st_scale = o->st_scale > 0 ? o->st_scale : 1.0f;
-    if (!has_uv)
+    if (!has_uv) {
+        free(mt), free(used);
+        t->mat = calloc(1, sizeof *t->mat); /* one empty set: the procedural methods */
+        if (!t->mat) {
+            render_mesh_free(m);
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        }
+        t->nmat = 1;
         return BG_OK;
-    char mh[1024], mn[1024], ma[1024];
-    mtl_find(o->mesh_path, mh, mn, ma, sizeof mh);
-    const char *hp = o->height_map ? o->height_map : mh[0] ? mh : NULL;
-    const char *np = o->normal_map ? o->normal_map : mn[0] ? mn : NULL;
-    const char *ap = o->albedo_map ? o->albedo_map : ma[0] ? ma : NULL;
-    bg_image img;
+    }
+    const double ls = wsum > 0 ? len_s / wsum : 1.0, lt = wsum > 0 ? len_t / wsum : 1.0;
+    t->nmat = nsets;
+    t->mat = calloc(nsets, sizeof *t->mat);
+    if (!t->mat) {
+        s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        goto fail;
+    }
     size_t dl = 0;
-    if (ap && !o->no_albedo) {
-        if ((s = read_texture("--albedo", ap, &img, e)) != BG_OK)
+    for (size_t i = 0; i < nsets; i++) {
+        if (!used[i])
+            continue;
+        /* set i: material i of the library, the "no material" set after them,
+         * or (without per-triangle ids) the first texture of each kind */
+        const mtl_entry *me = i < nmt ? &mt[i] : NULL;
+        const char *hp = o->height_map ? o->height_map : me && me->height[0] ? me->height : NULL;
+        const char *np = o->normal_map ? o->normal_map : me && me->nmap[0] ? me->nmap : NULL;
+        const char *ap = o->albedo_map ? o->albedo_map : me && me->albedo[0] ? me->albedo : NULL;
+        if (nsets > 1 && me && (hp || np || ap))
+            desc_add(desc, desclen, &dl, 0, " [", me->name, "]");
+        if ((s = load_material(o, hp, np, ap, want_nmap, ls, lt, t, &t->mat[i], desc, desclen,
+                               &dl, nsets > 1, e)) != BG_OK)
             goto fail;
-        size_t np_ = (size_t)img.width * img.height;
-        for (int ch = 0; ch < 3; ch++) {
-            float *tx = malloc(np_ * sizeof(float));
-            if (!tx) {
-                bg_image_free(&img);
-                s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-                goto fail;
-            }
-            for (size_t i = 0; i < np_; i++)
-                tx[i] = srgb_to_linear(img.pixels[i * img.channels + (ch < img.channels ? ch : 0)]);
-            t->owned[ch] = tx;
-            t->albedo[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
-        }
-        bg_image_free(&img);
-        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " albedo=%s", ap);
+        t->any_height |= t->mat[i].height.texels != NULL;
+        t->any_nmap |= t->mat[i].nmap[0].texels != NULL;
     }
-    const char *hsrc = hp ? hp : ap;
-    if (hsrc) {
-        if ((s = read_texture(hp ? "--height-map" : "--albedo", hsrc, &img, e)) != BG_OK)
-            goto fail;
-        size_t np_ = (size_t)img.width * img.height;
-        float *tx = malloc(np_ * sizeof(float));
-        if (!tx) {
-            bg_image_free(&img);
-            s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-            goto fail;
-        }
-        for (size_t i = 0; i < np_; i++)
-            tx[i] = gray(img.pixels + i * img.channels, img.channels);
-        t->owned[3] = tx;
-        t->height = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
-        bg_image_free(&img);
-        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " height=%s%s", hsrc,
-                               hp ? "" : "(gray-of-albedo)");
-    }
-    int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
-    if (want_nmap && np) {
-        if ((s = read_texture("--normal-map", np, &img, e)) != BG_OK)
-            goto fail;
-        if (img.channels < 3) {
-            bg_image_free(&img);
-            s = bgt_fail(e, BG_ERR_FORMAT, "--normal-map \"%s\": needs 3 channels, has %d", np,
-                         img.channels);
-            goto fail;
-        }
-        size_t np_ = (size_t)img.width * img.height;
-        for (int ch = 0; ch < 3; ch++) {
-            float *tx = malloc(np_ * sizeof(float));
-            if (!tx) {
-                bg_image_free(&img);
-                s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-                goto fail;
-            }
-            /* Stored 0.5 m + 0.5 with +y up the image (OpenGL); our t runs down. */
-            for (size_t i = 0; i < np_; i++) {
-                float v = 2.0f * img.pixels[i * img.channels + ch] - 1.0f;
-                tx[i] = ch == 1 ? -v : v;
-            }
-            t->owned[4 + ch] = tx;
-            t->nmap[ch] = (bg_height_texture){img.width, img.height, tx, BG_WRAP_REPEAT};
-        }
-        bg_image_free(&img);
-        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0, " normalmap=%s", np);
-    } else if (want_nmap && t->height.texels) {
-        /* Bake the tangent-space normal map of the height texture (the seed's
-         * diffuse-to-normal step, bumpgrad heightmap): slopes per unit length
-         * along unit tangents, using the mesh's average |dP/ds|, |dP/dt| (a
-         * normal map stores one scale for the whole surface; that is the
-         * approximation normal mapping makes, visible where the UV chart
-         * stretches). */
-        const int W = t->height.width, H = t->height.height;
-        const float *h = t->height.texels;
-        double ls = wsum > 0 ? len_s / wsum : 1.0, lt = wsum > 0 ? len_t / wsum : 1.0;
-        float ks = (float)(t->amplitude * W * t->st_scale / (ls > 0 ? ls : 1)),
-              kt = (float)(t->amplitude * H * t->st_scale / (lt > 0 ? lt : 1));
-        /* d/ds of the texture in st_scale-scaled coordinates: beta_s per texel * W;
-         * |dP/ds| of the scaled chart is ls / st_scale. */
-        for (int ch = 0; ch < 3; ch++) {
-            t->owned[4 + ch] = malloc((size_t)W * H * sizeof(float));
-            if (!t->owned[4 + ch]) {
-                s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-                goto fail;
-            }
-            t->nmap[ch] = (bg_height_texture){W, H, t->owned[4 + ch], BG_WRAP_REPEAT};
-        }
-        for (int j = 0; j < H; j++)
-            for (int i = 0; i < W; i++) {
-                float a = 0.5f * (h[(size_t)j * W + (i + 1) % W] - h[(size_t)j * W + (i + W - 1) % W]);
-                float b = 0.5f * (h[(size_t)((j + 1) % H) * W + i] - h[(size_t)((j + H - 1) % H) * W + i]);
-                float n[3] = {-ks * a, -kt * b, 1.0f};
-                bg_f3_normalize(n);
-                for (int ch = 0; ch < 3; ch++)
-                    t->owned[4 + ch][(size_t)j * W + i] = n[ch];
-            }
-        dl += (size_t)snprintf(desc + dl, desclen > dl ? desclen - dl : 0,
-                               " normalmap=baked-from-height");
-    }
-    if (textured && !t->height.texels &&
+    free(mt), mt = NULL;
+    free(used), used = NULL;
+    if (textured && !t->any_height &&
         (need_texture(o, RENDER_LISTING1_HEIGHTMAP) || need_texture(o, RENDER_LISTING1_HEIGHTMAP_CENTRAL) ||
          need_texture(o, RENDER_SURFGRAD_HEIGHTMAP) || need_texture(o, RENDER_DETAIL) ||
          o->preset == PRESET_FIG4)) {
@@ -499,7 +718,7 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
                      o->mesh_path);
         goto fail;
     }
-    if (need_texture(o, RENDER_NORMALMAP) && !t->nmap[0].texels) {
+    if (need_texture(o, RENDER_NORMALMAP) && !t->any_nmap) {
         s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                      "--mesh \"%s\": normalmap needs --normal-map, --height-map or --albedo",
                      o->mesh_path);
@@ -507,6 +726,7 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     }
     return BG_OK;
 fail:
+    free(mt), free(used);
     render_textures_free(t);
     render_mesh_free(m);
     return s;
