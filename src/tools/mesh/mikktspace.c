@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "mesh/mesh_sort.h"
 
 typedef struct d3 {
     double x, y, z;
@@ -108,28 +109,16 @@ static void float_directions(mikk *k, size_t t)
 
 /* ---- 1. welding ---- */
 
-static uint32_t key_bits(float f)
-{
-    if (f == 0.0f)
-        f = 0.0f; /* -0 welds with +0, as float == does */
-    uint32_t b;
-    memcpy(&b, &f, sizeof b);
-    return b;
-}
-
+/* k: the 8 attributes as keys (-0 welds with +0, as float == does), then
+ * the vertex index */
 typedef struct vkey {
-    uint32_t k[8];
-    uint32_t idx;
+    uint32_t k[9];
     uint32_t nan; /* some attribute is NaN: equal to nothing */
 } vkey;
 
 static int cmp_vkey(const void *a, const void *b)
 {
-    const vkey *x = a, *y = b;
-    for (int j = 0; j < 8; j++)
-        if (x->k[j] != y->k[j])
-            return x->k[j] < y->k[j] ? -1 : 1;
-    return x->idx < y->idx ? -1 : x->idx > y->idx;
+    return mesh_keys_cmp(((const vkey *)a)->k, ((const vkey *)b)->k, 9);
 }
 
 /* weld[i] = smallest vertex index with the same attributes; returns the
@@ -159,10 +148,10 @@ static size_t weld_vertices(mikk *k)
         const float f[8] = {m->px[i], m->py[i], m->pz[i], m->nx[i],
                             m->ny[i], m->nz[i], m->u[i],  m->v[i]};
         vkey *q = keys + nu++;
-        q->idx = (uint32_t)i;
+        q->k[8] = (uint32_t)i;
         q->nan = 0;
         for (int j = 0; j < 8; j++) {
-            q->k[j] = key_bits(f[j]);
+            q->k[j] = mesh_float_key(f[j]);
             q->nan |= isnan(f[j]) ? 1u : 0u;
         }
     }
@@ -171,10 +160,10 @@ static size_t weld_vertices(mikk *k)
     size_t classes = 0;
     for (size_t j = 0; j < nu; j++) {
         const vkey *q = keys + j;
-        if (j > 0 && !q->nan && !q[-1].nan && memcmp(q->k, q[-1].k, sizeof q->k) == 0) {
-            k->weld[q->idx] = k->weld[q[-1].idx];
+        if (j > 0 && !q->nan && !q[-1].nan && mesh_keys_cmp(q->k, q[-1].k, 8) == 0) {
+            k->weld[q->k[8]] = k->weld[q[-1].k[8]];
         } else {
-            k->weld[q->idx] = q->idx; /* first of its run = smallest index */
+            k->weld[q->k[8]] = q->k[8]; /* first of its run = smallest index */
             classes++;
         }
     }
@@ -233,22 +222,15 @@ static void classify(mikk *k, bgt_mikk_stats *st)
 
 /* ---- 4a. edge neighbours ---- */
 
+/* k: lower and higher welded vertex, triangle, edge number in it */
 typedef struct edge {
-    uint32_t lo, hi;
-    int32_t tri;
-    int32_t k;
+    uint32_t k[4];
 } edge;
+enum { E_LO, E_HI, E_TRI, E_K };
 
 static int cmp_edge(const void *a, const void *b)
 {
-    const edge *x = a, *y = b;
-    if (x->lo != y->lo)
-        return x->lo < y->lo ? -1 : 1;
-    if (x->hi != y->hi)
-        return x->hi < y->hi ? -1 : 1;
-    if (x->tri != y->tri)
-        return x->tri < y->tri ? -1 : 1;
-    return (x->k > y->k) - (x->k < y->k);
+    return mesh_keys_cmp(((const edge *)a)->k, ((const edge *)b)->k, 4);
 }
 
 static int build_neighbours(mikk *k)
@@ -266,21 +248,23 @@ static int build_neighbours(mikk *k)
             continue;
         for (int c = 0; c < 3; c++) {
             uint32_t a = wv(k, 3 * t + (size_t)c), b = wv(k, 3 * t + (size_t)((c + 1) % 3));
-            e[n++] = (edge){a < b ? a : b, a < b ? b : a, (int32_t)t, c};
+            e[n++] = (edge){{a < b ? a : b, a < b ? b : a, (uint32_t)t, (uint32_t)c}};
         }
     }
     qsort(e, n, sizeof *e, cmp_edge);
     for (size_t i = 0; i < n; i++) {
-        size_t ca = 3 * (size_t)e[i].tri + (size_t)e[i].k;
+        const uint32_t *ei = e[i].k;
+        size_t ca = 3 * (size_t)ei[E_TRI] + ei[E_K];
         if (k->nb[ca] >= 0)
             continue;
-        uint32_t from = wv(k, ca), to = wv(k, 3 * (size_t)e[i].tri + (size_t)((e[i].k + 1) % 3));
-        for (size_t j = i + 1; j < n && e[j].lo == e[i].lo && e[j].hi == e[i].hi; j++) {
-            size_t cb = 3 * (size_t)e[j].tri + (size_t)e[j].k;
-            uint32_t bf = wv(k, cb), bt = wv(k, 3 * (size_t)e[j].tri + (size_t)((e[j].k + 1) % 3));
+        uint32_t from = wv(k, ca), to = wv(k, 3 * (size_t)ei[E_TRI] + (ei[E_K] + 1) % 3);
+        for (size_t j = i + 1; j < n && mesh_keys_cmp(e[j].k, ei, 2) == 0; j++) {
+            const uint32_t *ej = e[j].k;
+            size_t cb = 3 * (size_t)ej[E_TRI] + ej[E_K];
+            uint32_t bf = wv(k, cb), bt = wv(k, 3 * (size_t)ej[E_TRI] + (ej[E_K] + 1) % 3);
             if (bf == to && bt == from && k->nb[cb] < 0) {
-                k->nb[ca] = e[j].tri;
-                k->nb[cb] = e[i].tri;
+                k->nb[ca] = (int32_t)ej[E_TRI];
+                k->nb[cb] = (int32_t)ei[E_TRI];
                 break;
             }
         }
