@@ -741,6 +741,13 @@ def group_udim(tmp):
              "--size", "4"])
     check(p.returncode == 2 and "110 UDIM tiles" in p.stderr and os.listdir(d3) == [],
           "more than 100 tiles refused, exit 2, nothing written: " + p.stderr.strip())
+    # The memory cap applies per tile, before any allocation of the bake.
+    env = dict(os.environ, BUMPGRAD_MAX_MB="1")
+    p = subprocess.run([BUMPGRAD, "mesh", src, "--quiet", "--bake-normal-map",
+                        os.path.join(d3, "c.<UDIM>.png"), "--size", "256"], capture_output=True,
+                       text=True, env=env)
+    check(p.returncode == 2 and "over the cap of 1 MiB" in p.stderr and os.listdir(d3) == [],
+          "a tile over BUMPGRAD_MAX_MB refused, exit 2: " + p.stderr.strip())
 
 
 def main():
