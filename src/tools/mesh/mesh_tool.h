@@ -171,8 +171,11 @@ bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e);
  * vertex normals, evaluate the height and perturb every normal (Mikkelsen 2010
  * eq. 2 and 4, Listing 3), write OUT.ply (through common/safe_file.h; an
  * existing device such as /dev/null is written in place) and/or bake and write
- * the normal map (bg_image_write, itself temp + rename). The PLY is renamed
- * into place only after the map was written. *r is filled on success.
+ * the normal map, one image per UDIM tile when bake_path holds MESH_UDIM_TOKEN
+ * (each tile written by bg_image_write to a temporary as soon as it is baked;
+ * all tiles renamed into place at the end, then the mesh output). A failure
+ * before the renames leaves no new file and every old one as it was. *r is
+ * filled on success (r->bake.tiles, r->bake.tile_udim: the tiles written).
  * Status: BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT for bad input (paths,
  * height, a missing or malformed mesh, a bake without UVs, a map name without
  * an image format); BG_ERR_IO or BG_ERR_OUT_OF_MEMORY when the run fails. */
