@@ -260,8 +260,9 @@ double mesh_bake_tile_bytes(int width, int height)
 
 /* The tiles (UDIM numbers, ascending) that the UV bounding box of a bakeable
  * triangle touches: u tiles 0..9, v tiles 0..MESH_UDIM_V_TILES-1, a box edge
- * on a tile boundary does not touch the next tile. Returns the count, or
- * (size_t)-1 when there are more than MESH_UDIM_MAX_TILES. */
+ * on a tile boundary does not touch the next tile. Returns the count (also in
+ * *wanted), (size_t)-1 when there are more than MESH_UDIM_MAX_TILES (*wanted:
+ * how many), or (size_t)-2 when out of memory. */
 static size_t udim_tiles(const bg_mesh *m, int *tiles, size_t *wanted)
 {
     enum { U = 10, V = MESH_UDIM_V_TILES };
