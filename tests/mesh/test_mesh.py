@@ -3,7 +3,7 @@
 small meshes written here.
 
 usage: test_mesh.py GROUP BUMPGRAD MESH_ORACLE MODELS_DIR
-GROUP: vertex | recompute | degenerate | errors | bake
+GROUP: vertex | recompute | degenerate | errors | bake | formats | udim
 
 Every expected value is computed here, independently of the command: input
 meshes are parsed by the PLY/OBJ/STL readers below, vertex normals by numpy,
@@ -661,13 +661,103 @@ def group_formats(tmp):
           "--normal-map-y -y flips green only")
 
 
+def udim_mesh(path, tiles, shift=(0, 0)):
+    """One 2x2-cell grid patch per (u_tile, v_tile), each on its own tilted
+    plane, UVs = tile + [0,1]^2 - shift (multiples of 1/2: exact floats, so the
+    shift is exact)."""
+    pos, nrm, uv, faces = [], [], [], []
+    for k, (a, b) in enumerate(tiles):
+        base = len(pos)
+        for j in range(3):
+            for i in range(3):
+                s, t = i / 2, j / 2
+                pos.append([s + 1.5 * k, t, 0.3 + 0.2 * s - 0.1 * k * t])
+                nrm.append([-0.2, 0.1 * k, 1.0])
+                uv.append([a + s - shift[0], b + t - shift[1]])
+        for j in range(2):
+            for i in range(2):
+                q = base + j * 3 + i
+                faces += [(q, q + 1, q + 4), (q, q + 4, q + 3)]
+    write_ply_ascii(path, np.array(pos), faces, np.array(nrm), np.array(uv))
+
+
+def group_udim(tmp):
+    tiles = [(0, 0), (1, 0), (0, 1)]  # 1001, 1002, 1011
+    src = os.path.join(tmp, "tiles.ply")
+    udim_mesh(src, tiles)
+    out = os.path.join(tmp, "out")
+    os.mkdir(out)
+    size = ["--size", "16x8", "--space", "object", "--bake-depth", "float"] + HEIGHT
+    p = run([src, os.path.join(out, "bumped.glb"), "--quiet", "--bake-normal-map",
+             os.path.join(out, "n.<UDIM>.exr")] + size, 0)
+    names = sorted(os.listdir(out))
+    check(p.returncode == 0 and names == ["bumped.glb", "n.1001.exr", "n.1002.exr", "n.1011.exr"],
+          "<UDIM>: one map per tile 1001 + u + 10 v, nothing else left (%s)" % names)
+    # Each tile = the single-tile bake of the mesh with the tile's UVs moved
+    # to the unit square (the other patches fall outside and are clipped).
+    seen = []
+    for a, b in tiles:
+        shifted = os.path.join(tmp, "shift_%d%d.ply" % (a, b))
+        udim_mesh(shifted, tiles, (a, b))
+        single = os.path.join(tmp, "single_%d%d.exr" % (a, b))
+        q = run([shifted, "--quiet", "--bake-normal-map", single] + size, 0)
+        got = oracle_image(tmp, os.path.join(out, "n.%d.exr" % (1001 + a + 10 * b)))
+        want = oracle_image(tmp, single)
+        flat = np.all(np.abs(want - 0.5) < 1e-12, axis=2)
+        check(q.returncode == 0 and got.shape == want.shape == (8, 16, 3)
+              and np.array_equal(got, want) and flat.sum() < flat.size // 2,
+              "tile %d = single-tile bake of the shifted UVs, texel for texel (%d of %d texels "
+              "baked)" % (1001 + a + 10 * b, flat.size - flat.sum(), flat.size))
+        seen.append(got)
+    check(not any(np.array_equal(seen[i], seen[j]) for i in range(3) for j in range(i)),
+          "the three tiles hold different patches")
+    one = os.path.join(tmp, "one.ply")
+    udim_mesh(one, [(0, 0)])
+    d1 = os.path.join(tmp, "one")
+    os.mkdir(d1)
+    p = run([one, "--quiet", "--bake-normal-map", os.path.join(d1, "m_<UDIM>.png"),
+             "--size", "8"], 0)
+    check(p.returncode == 0 and os.listdir(d1) == ["m_1001.png"],
+          "<UDIM> on a single-tile mesh writes one tile")
+    # A failure after the tiles were baked (OUT.ply cannot be opened) leaves
+    # none of them and keeps an old tile as it was.
+    d2 = os.path.join(tmp, "fail")
+    os.mkdir(d2)
+    old = os.path.join(d2, "n.1002.exr")
+    open(old, "wb").write(b"old tile")
+    p = run([src, os.path.join(tmp, "no_such_dir", "out.ply"), "--quiet", "--bake-normal-map",
+             os.path.join(d2, "n.<UDIM>.exr")] + size)
+    check(p.returncode == 1 and os.listdir(d2) == ["n.1002.exr"]
+          and open(old, "rb").read() == b"old tile",
+          "a failed run writes no tile and leaves the old ones (%s)" % os.listdir(d2))
+    # More tiles than the cap: refused before baking (exit 2), nothing written.
+    big = os.path.join(tmp, "big.ply")
+    write_ply_ascii(big, np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float), [(0, 1, 2)],
+                    np.array([[0, 0, 1]] * 3, float),
+                    np.array([[0.5, 0.5], [9.5, 0.5], [0.5, 10.5]]))
+    d3 = os.path.join(tmp, "big")
+    os.mkdir(d3)
+    p = run([big, "--quiet", "--bake-normal-map", os.path.join(d3, "n.<UDIM>.png"),
+             "--size", "4"])
+    check(p.returncode == 2 and "110 UDIM tiles" in p.stderr and os.listdir(d3) == [],
+          "more than 100 tiles refused, exit 2, nothing written: " + p.stderr.strip())
+    # The memory cap applies per tile, before any allocation of the bake.
+    env = dict(os.environ, BUMPGRAD_MAX_MB="1")
+    p = subprocess.run([BUMPGRAD, "mesh", src, "--quiet", "--bake-normal-map",
+                        os.path.join(d3, "c.<UDIM>.png"), "--size", "256"], capture_output=True,
+                       text=True, env=env)
+    check(p.returncode == 2 and "over the cap of 1 MiB" in p.stderr and os.listdir(d3) == [],
+          "a tile over BUMPGRAD_MAX_MB refused, exit 2: " + p.stderr.strip())
+
+
 def main():
     if not os.path.isdir(os.path.join(MODELS, "PLY")):
         print("skip: %s not found (Debian package assimp-testmodels)" % MODELS)
         return 77
     with tempfile.TemporaryDirectory(prefix="mesh-%s-" % GROUP, dir=os.getcwd()) as tmp:
         {"vertex": group_vertex, "recompute": group_recompute, "degenerate": group_degenerate,
-         "errors": group_errors, "bake": group_bake, "formats": group_formats}[GROUP](tmp)
+         "errors": group_errors, "bake": group_bake, "formats": group_formats,
+         "udim": group_udim}[GROUP](tmp)
     print("%d failure(s)" % len(FAILS))
     return 1 if FAILS else 0
 

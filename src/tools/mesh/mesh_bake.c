@@ -36,6 +36,8 @@ typedef struct bake_ctx {
     const float *b1, *b2;
     float *vec; /* 3 floats per texel: the unit vector m to encode */
     atomic_int oom;
+    const bgt_progress *progress;
+    atomic_size_t done; /* texels of finished rows, over all tiles */
 } bake_ctx;
 
 static void flat_vector(const bake_ctx *c, float *out)
@@ -47,10 +49,8 @@ static void flat_vector(const bake_ctx *c, float *out)
     out[2] = c->ctan ? 1.0f : 0.0f;
 }
 
-static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
+static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
 {
-    (void)worker;
-    bake_ctx *c = ctxp;
     const bg_mesh *m = c->m;
     size_t W = (size_t)c->width;
     size_t cnt = 0;
@@ -127,24 +127,46 @@ static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
     free(idx);
 }
 
-/* Fill texel centres inside triangle t with its id and barycentric weights.
- * Texel (x, y) has its centre at u = (x + 0.5) / W, v = 1 - (y + 0.5) / H:
- * row 0 is the top of the image and v grows upward (the OpenGL / glTF-after-
- * assimp convention). Centres on a shared edge go to the later triangle. */
-static int raster_triangle(const bg_mesh *m, size_t t, int W, int H, int32_t *tri, float *b1,
-                           float *b2, const uint32_t *island, uint8_t *overlapped,
-                           uint8_t *multi)
+/* Progress in texels: every worker counts its rows, worker 0 reports (the
+ * callback rate-limits, as for the render's tiles). */
+static void shade_rows(void *ctxp, size_t begin, size_t end, int worker)
+{
+    bake_ctx *c = ctxp;
+    shade_rows_work(c, begin, end);
+    size_t n = (end - begin) * (size_t)c->width;
+    size_t done = atomic_fetch_add(&c->done, n) + n;
+    if (worker == 0)
+        bgt_progress_update(c->progress, done);
+}
+
+/* The image of triangle t in the texel grid of tile (u0, v0): X = (u - u0) W,
+ * Y = (1 - (v - v0)) H (the shift is exact in double). 0 when a UV is not
+ * finite or the UV area is zero. */
+static int uv_image(const bg_mesh *m, size_t t, double u0, double v0, int W, int H, double X[3],
+                    double Y[3], double *area)
 {
     const uint32_t *ix = m->indices + 3 * t;
-    double X[3], Y[3];
     for (int k = 0; k < 3; k++) {
-        X[k] = (double)m->u[ix[k]] * W;
-        Y[k] = (1.0 - (double)m->v[ix[k]]) * H;
+        X[k] = ((double)m->u[ix[k]] - u0) * W;
+        Y[k] = (1.0 - ((double)m->v[ix[k]] - v0)) * H;
         if (!isfinite(X[k]) || !isfinite(Y[k]))
             return 0;
     }
-    double area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
-    if (!(area != 0.0 && isfinite(area)))
+    *area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    return *area != 0.0 && isfinite(*area);
+}
+
+/* Fill texel centres inside triangle t with its id and barycentric weights.
+ * Texel (x, y) of tile (u0, v0) has its centre at u = u0 + (x + 0.5) / W,
+ * v = v0 + 1 - (y + 0.5) / H: row 0 is the top of the image and v grows upward
+ * (the OpenGL / glTF-after-assimp convention). Centres on a shared edge go to
+ * the later triangle. UVs outside the tile are clipped, not wrapped. */
+static int raster_triangle(const bg_mesh *m, size_t t, double u0, double v0, int W, int H,
+                           int32_t *tri, float *b1, float *b2, const uint32_t *island,
+                           uint8_t *overlapped, uint8_t *multi)
+{
+    double X[3], Y[3], area;
+    if (!uv_image(m, t, u0, v0, W, H, X, Y, &area))
         return 0;
     double xmin = fmin(X[0], fmin(X[1], X[2])), xmax = fmax(X[0], fmax(X[1], X[2]));
     double ymin = fmin(Y[0], fmin(Y[1], Y[2])), ymax = fmax(Y[0], fmax(Y[1], Y[2]));
@@ -230,23 +252,89 @@ static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tan
     return filled;
 }
 
+double mesh_bake_tile_bytes(int width, int height)
+{
+    /* tri, b1, b2 (4 + 4 + 4), vec (12), level (2), multi (1), image (12) */
+    return (double)width * (double)height * 39.0;
+}
+
+/* The tiles (UDIM numbers, ascending) that the UV bounding box of a bakeable
+ * triangle touches: u tiles 0..9, v tiles 0..MESH_UDIM_V_TILES-1, a box edge
+ * on a tile boundary does not touch the next tile. Returns the count (also in
+ * *wanted), (size_t)-1 when there are more than MESH_UDIM_MAX_TILES (*wanted:
+ * how many), or (size_t)-2 when out of memory. */
+static size_t udim_tiles(const bg_mesh *m, int *tiles, size_t *wanted)
+{
+    enum { U = 10, V = MESH_UDIM_V_TILES };
+    uint8_t *mark = calloc((size_t)U * V, 1);
+    if (!mark)
+        return (size_t)-2;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double X[3], Y[3], area;
+        if (!mesh_triangle_usable(m, t) || !uv_image(m, t, 0.0, 0.0, 1, 1, X, Y, &area))
+            continue;
+        const uint32_t *ix = m->indices + 3 * t;
+        double u_lo = m->u[ix[0]], u_hi = u_lo, v_lo = m->v[ix[0]], v_hi = v_lo;
+        for (int k = 1; k < 3; k++) {
+            u_lo = fmin(u_lo, m->u[ix[k]]), u_hi = fmax(u_hi, m->u[ix[k]]);
+            v_lo = fmin(v_lo, m->v[ix[k]]), v_hi = fmax(v_hi, m->v[ix[k]]);
+        }
+        double a0 = fmax(floor(u_lo), 0.0), a1 = fmin(ceil(u_hi) - 1.0, U - 1.0);
+        double b0 = fmax(floor(v_lo), 0.0), b1 = fmin(ceil(v_hi) - 1.0, V - 1.0);
+        for (double b = b0; b <= b1; b += 1.0)
+            for (double a = a0; a <= a1; a += 1.0)
+                mark[(size_t)b * U + (size_t)a] = 1;
+    }
+    size_t n = 0;
+    for (size_t k = 0; k < (size_t)U * V; k++) {
+        if (!mark[k])
+            continue;
+        if (n < MESH_UDIM_MAX_TILES)
+            tiles[n] = 1001 + (int)(k % U) + 10 * (int)(k / U);
+        n++;
+    }
+    free(mark);
+    *wanted = n;
+    return n > MESH_UDIM_MAX_TILES ? (size_t)-1 : n;
+}
+
 bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
-                    const bgt_height *h, const mesh_bake_opts *o, bg_image *img,
-                    mesh_bake_stats *stats, bgt_err *e)
+                    const bgt_height *h, const mesh_bake_opts *o, mesh_bake_sink sink,
+                    void *sink_ctx, mesh_bake_stats *stats, bgt_err *e)
 {
     memset(stats, 0, sizeof *stats);
-    memset(img, 0, sizeof *img);
     int W = o->width, H = o->height;
     size_t npix = (size_t)W * (size_t)H;
     if (m->triangle_count > (size_t)INT32_MAX)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "too many triangles to bake (%zu)",
                         m->triangle_count);
+    bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H), "the bake buffers", e);
+    if (rc != BG_OK)
+        return rc;
+    int tiles[MESH_UDIM_MAX_TILES];
+    size_t ntiles = 1, wanted = 0;
+    tiles[0] = 1001;
+    if (o->udim) {
+        ntiles = udim_tiles(m, tiles, &wanted);
+        if (ntiles == (size_t)-2)
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UDIM tiles");
+        if (ntiles == (size_t)-1)
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "the UVs span %zu UDIM tiles; at most %d are baked (each tile is a "
+                            "full %dx%d bake)",
+                            wanted, MESH_UDIM_MAX_TILES, W, H);
+        if (ntiles == 0)
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "no triangle has UVs in the UDIM range (u in [0, 10), v in [0, %d)): "
+                            "nothing to bake",
+                            MESH_UDIM_V_TILES);
+    }
 
-    bg_status rc = BG_OK;
     size_t C = 3 * m->triangle_count;
     float *ctan = NULL;
     uint32_t *island = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *island);
     uint8_t *overlapped = NULL, *multi = NULL;
+    bg_image img = {0, 0, 0, NULL};
     if (!island)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
     stats->islands = mesh_uv_islands(m->triangle_count, m->indices, m->u, m->v, island);
@@ -280,62 +368,79 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         }
     }
 
+    bgt_progress_begin(o->progress, "bake", ntiles * npix);
     int32_t *tri = malloc(npix * sizeof *tri);
     float *b1 = malloc(npix * sizeof *b1), *b2 = malloc(npix * sizeof *b2);
-    float *vec = calloc(npix * 3, sizeof *vec);
-    uint16_t *level = calloc(npix, sizeof *level);
+    float *vec = malloc(npix * 3 * sizeof *vec);
+    uint16_t *level = malloc(npix * sizeof *level);
     overlapped = calloc(stats->islands ? stats->islands : 1, 1);
-    multi = calloc(npix, 1);
-    if (!tri || !b1 || !b2 || !vec || !level || !overlapped || !multi) {
+    multi = malloc(npix);
+    if (!tri || !b1 || !b2 || !vec || !level || !overlapped || !multi ||
+        bg_image_alloc(&img, W, H, 3) != BG_OK) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d bake", W, H);
         goto done;
     }
-    for (size_t k = 0; k < npix; k++)
-        tri[k] = -1;
-    for (size_t t = 0; t < m->triangle_count; t++) {
-        if (!mesh_triangle_usable(m, t) ||
-            !raster_triangle(m, t, W, H, tri, b1, b2, island, overlapped, multi))
-            stats->skipped++;
-    }
-    for (size_t k = 0; k < npix; k++)
-        stats->overlap_texels += multi[k] & 1;
-    for (size_t i = 0; i < stats->islands; i++)
-        stats->overlap_islands += overlapped[i];
-
     bake_ctx c = {.m = m, .nx = nx, .ny = ny, .nz = nz,
                   .ctan = ctan, .green_down = o->green_down,
                   .h = h, .method = o->method, .width = W, .tri = tri, .b1 = b1, .b2 = b2,
-                  .vec = vec};
+                  .vec = vec, .progress = o->progress};
     atomic_init(&c.oom, 0);
-    size_t rows = (size_t)(16384 / W) + 1;
-    bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, &c);
-    if (atomic_load(&c.oom)) {
-        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
-        goto done;
-    }
-    for (size_t k = 0; k < npix; k++) {
-        if (tri[k] >= 0) {
-            level[k] = 1;
-            stats->covered++;
+    atomic_init(&c.done, 0);
+    for (size_t ti = 0; ti < ntiles; ti++) {
+        double u0 = (double)((tiles[ti] - 1001) % 10), v0 = (double)((tiles[ti] - 1001) / 10);
+        for (size_t k = 0; k < npix; k++)
+            tri[k] = -1;
+        memset(vec, 0, npix * 3 * sizeof *vec);
+        memset(level, 0, npix * sizeof *level);
+        memset(multi, 0, npix);
+        size_t skipped = 0, covered = 0;
+        for (size_t t = 0; t < m->triangle_count; t++) {
+            if (!mesh_triangle_usable(m, t) ||
+                !raster_triangle(m, t, u0, v0, W, H, tri, b1, b2, island, overlapped, multi))
+                skipped++;
         }
-    }
-    stats->padded = pad(vec, level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+        if (ti == 0)
+            stats->skipped = skipped; /* per triangle, the same for every tile */
+        for (size_t k = 0; k < npix; k++)
+            covered += tri[k] >= 0;
+        if (o->udim && covered == 0) {
+            /* the bounding box touched the tile, no texel centre is inside */
+            atomic_fetch_add(&c.done, npix);
+            continue;
+        }
+        for (size_t k = 0; k < npix; k++)
+            stats->overlap_texels += multi[k] & 1;
 
-    if (bg_image_alloc(img, W, H, 3) != BG_OK) {
-        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d image", W, H);
-        goto done;
-    }
-    for (size_t k = 0; k < npix; k++) {
-        float v[3];
-        if (level[k]) {
-            v[0] = vec[3 * k], v[1] = vec[3 * k + 1], v[2] = vec[3 * k + 2];
-        } else {
-            v[0] = 0.0f, v[1] = 0.0f, v[2] = o->space == MESH_BAKE_TANGENT ? 1.0f : 0.0f;
+        size_t rows = (size_t)(16384 / W) + 1;
+        bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, &c);
+        if (atomic_load(&c.oom)) {
+            rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
+            goto done;
         }
-        for (int ch = 0; ch < 3; ch++)
-            img->pixels[3 * k + (size_t)ch] = 0.5f * v[ch] + 0.5f;
+        for (size_t k = 0; k < npix; k++)
+            level[k] = tri[k] >= 0;
+        stats->covered += covered;
+        stats->padded += pad(vec, level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+
+        for (size_t k = 0; k < npix; k++) {
+            float v[3];
+            if (level[k]) {
+                v[0] = vec[3 * k], v[1] = vec[3 * k + 1], v[2] = vec[3 * k + 2];
+            } else {
+                v[0] = 0.0f, v[1] = 0.0f, v[2] = o->space == MESH_BAKE_TANGENT ? 1.0f : 0.0f;
+            }
+            for (int ch = 0; ch < 3; ch++)
+                img.pixels[3 * k + (size_t)ch] = 0.5f * v[ch] + 0.5f;
+        }
+        if ((rc = sink(sink_ctx, tiles[ti], &img, e)) != BG_OK)
+            goto done;
+        stats->tile_udim[stats->tiles++] = tiles[ti];
     }
+    for (size_t i = 0; i < stats->islands; i++)
+        stats->overlap_islands += overlapped[i];
 done:
+    bgt_progress_end(o->progress);
+    bg_image_free(&img);
     free(tri);
     free(b1);
     free(b2);

@@ -26,22 +26,16 @@
 #include <string.h>
 
 #include "mesh/mesh_gltf.h"
+#include "mesh/mesh_sort.h"
 
+/* k: vertex, the corner tangent's 4 float bit patterns, corner */
 typedef struct ckey {
-    uint32_t v;
-    uint32_t t[4];
-    uint32_t corner;
+    uint32_t k[6];
 } ckey;
 
 static int cmp_ckey(const void *a, const void *b)
 {
-    const ckey *x = a, *y = b;
-    if (x->v != y->v)
-        return x->v < y->v ? -1 : 1;
-    for (int j = 0; j < 4; j++)
-        if (x->t[j] != y->t[j])
-            return x->t[j] < y->t[j] ? -1 : 1;
-    return (x->corner > y->corner) - (x->corner < y->corner);
+    return mesh_keys_cmp(((const ckey *)a)->k, ((const ckey *)b)->k, 6);
 }
 
 static uint32_t fbits(float f)
@@ -144,18 +138,17 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
     }
     /* new vertices: one per (vertex, corner tangent) */
     for (size_t c = 0; c < C; c++) {
-        keys[c].v = d->indices[c];
-        keys[c].corner = (uint32_t)c;
+        keys[c].k[0] = d->indices[c];
+        keys[c].k[5] = (uint32_t)c;
         for (int j = 0; j < 4; j++)
-            keys[c].t[j] = has_tan ? fbits(d->corner_tangents[4 * c + (size_t)j]) : 0u;
+            keys[c].k[1 + j] = has_tan ? fbits(d->corner_tangents[4 * c + (size_t)j]) : 0u;
     }
     qsort(keys, C, sizeof *keys, cmp_ckey);
     size_t NV = 0;
     for (size_t i = 0; i < C; i++) {
-        if (i == 0 || keys[i].v != keys[i - 1].v ||
-            memcmp(keys[i].t, keys[i - 1].t, sizeof keys[i].t) != 0)
-            src[NV++] = keys[i].corner;
-        newidx[keys[i].corner] = (uint32_t)(NV - 1);
+        if (i == 0 || mesh_keys_cmp(keys[i].k, keys[i - 1].k, 5) != 0)
+            src[NV++] = keys[i].k[5];
+        newidx[keys[i].k[5]] = (uint32_t)(NV - 1);
     }
     if (NV > UINT32_MAX) {
         rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "too many vertices for glTF (%zu)", NV);

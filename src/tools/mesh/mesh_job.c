@@ -250,6 +250,104 @@ static size_t take_normals(bg_mesh *m, int file_normals, float **ox, float **oy,
     return *ox && *oy && *oz ? mesh_vertex_normals(m, *ox, *oy, *oz) : (size_t)-1;
 }
 
+/* The normal map's tiles (one without the <UDIM> token): each is written to
+ * a temporary next to its final name as soon as it is baked (the image is
+ * freed after that), and all are renamed into place together at the end,
+ * after the mesh output was written too; a failure before that removes every
+ * temporary and leaves all old tiles as they were. */
+typedef struct map_out {
+    const char *path; /* the map argument, with or without the token */
+    int udim;
+    bg_pixel_type type;
+    size_t n;
+    char *tmp[MESH_UDIM_MAX_TILES], *final[MESH_UDIM_MAX_TILES];
+    double t_write;
+} map_out;
+
+/* path with every <UDIM> replaced by the four-digit tile number */
+static char *tile_path(const char *path, int udim)
+{
+    size_t tok = strlen(MESH_UDIM_TOKEN), n = 0;
+    for (const char *p = strstr(path, MESH_UDIM_TOKEN); p; p = strstr(p + tok, MESH_UDIM_TOKEN))
+        n++;
+    char *out = malloc(strlen(path) + 1); /* 4 digits replace 6 characters */
+    if (!out)
+        return NULL;
+    char *o = out;
+    for (const char *p = path; *p;) {
+        if (n && strncmp(p, MESH_UDIM_TOKEN, tok) == 0) {
+            o += sprintf(o, "%04d", udim);
+            p += tok;
+        } else {
+            *o++ = *p++;
+        }
+    }
+    *o = '\0';
+    return out;
+}
+
+static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
+{
+    map_out *mo = ctx;
+    double t0 = now_seconds();
+    char *final = mo->udim ? tile_path(mo->path, udim) : strdup(mo->path);
+    if (!final)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    char *tmp = bgt_safe_temp_path(final, e);
+    if (!tmp) {
+        free(final);
+        return e && e->status != BG_OK ? e->status : BG_ERR_IO;
+    }
+    mo->final[mo->n] = final;
+    mo->tmp[mo->n++] = tmp;
+    char err[512];
+    bg_status ws = bg_image_write(tmp, img, mo->type, 0, err, sizeof err);
+    mo->t_write += now_seconds() - t0;
+    if (ws != BG_OK)
+        /* A file name without an image format is bad input, as in
+         * heightmap; only the writing itself failing is an I/O failure. */
+        return bgt_fail(e,
+                        ws == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
+                        : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
+                                                      : BG_ERR_IO,
+                        "normal map %s: %s", final, err);
+    return BG_OK;
+}
+
+/* Rename every tile into place. Only a failing rename (same folder as its
+ * temporary: rare) can leave a part of the set renamed; the message says how
+ * much. */
+static bg_status map_commit(map_out *mo, bgt_err *e)
+{
+    for (size_t i = 0; i < mo->n; i++) {
+        bg_status st = bgt_safe_commit_path(mo->tmp[i], mo->final[i], e);
+        free(mo->tmp[i]);
+        mo->tmp[i] = NULL; /* renamed or removed either way */
+        if (st != BG_OK) {
+            if (mo->n > 1) {
+                char what[64];
+                snprintf(what, sizeof what, "%zu of %zu tiles were renamed into place before", i,
+                         mo->n);
+                bgt_err_prefix(e, what);
+            }
+            return st;
+        }
+    }
+    return BG_OK;
+}
+
+static void map_free(map_out *mo)
+{
+    for (size_t i = 0; i < mo->n; i++) {
+        if (mo->tmp[i]) {
+            bgt_safe_discard_path(mo->tmp[i]);
+            free(mo->tmp[i]);
+        }
+        free(mo->final[i]);
+    }
+    mo->n = 0;
+}
+
 /* Sum the chunk statistics in chunk order into *r. */
 static void reduce_stats(const chunk_stats *stats, size_t nchunks, bgt_mesh_result *r)
 {
@@ -341,7 +439,8 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     float *ox = NULL, *oy = NULL, *oz = NULL;
     float *outs = NULL;
     chunk_stats *stats = NULL;
-    bg_image img = {0, 0, 0, NULL};
+    map_out mo;
+    memset(&mo, 0, sizeof mo);
     bgt_safe_file of = {NULL, NULL, NULL};
     FILE *devout = NULL;
     char *obj_tmp = NULL;
@@ -394,7 +493,13 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         mesh_bake_opts bake = o->bake;
         bake.method = method;
         bake.threads = threads;
-        if ((st = mesh_bake(&m, ox, oy, oz, &h, &bake, &img, &r->bake, e)) != BG_OK)
+        bake.progress = o->progress;
+        bake.udim = mo.udim = strstr(bake_path, MESH_UDIM_TOKEN) != NULL;
+        mo.path = bake_path;
+        mo.type = (bg_pixel_type)o->bake_depth;
+        if (o->bake_depth < 0)
+            mo.type = ends_with_ci(bake_path, ".exr") ? BG_PIXEL_HALF : BG_PIXEL_U8;
+        if ((st = mesh_bake(&m, ox, oy, oz, &h, &bake, map_sink, &mo, &r->bake, e)) != BG_OK)
             goto done;
     }
     double t_bake1 = now_seconds();
@@ -474,22 +579,8 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
             goto done;
         }
     }
-    if (bake_path) {
-        bg_pixel_type type = (bg_pixel_type)o->bake_depth;
-        if (o->bake_depth < 0)
-            type = ends_with_ci(bake_path, ".exr") ? BG_PIXEL_HALF : BG_PIXEL_U8;
-        bg_status ws = bg_image_write(bake_path, &img, type, 0, err, sizeof err);
-        if (ws != BG_OK) {
-            /* A file name without an image format is bad input, as in
-             * heightmap; only the writing itself failing is an I/O failure. */
-            st = bgt_fail(e,
-                          ws == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
-                          : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
-                                                        : BG_ERR_IO,
-                          "%s", err);
-            goto done;
-        }
-    }
+    if (bake_path && (st = map_commit(&mo, e)) != BG_OK)
+        goto done;
     if (devout) {
         int bad = fclose(devout) != 0;
         devout = NULL;
@@ -511,8 +602,8 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     r->t_load = t_load - t0;
     r->t_normals = t_normals - t_load;
     r->t_perturb = t_perturb - t_normals;
-    r->t_bake = bake_path ? t_bake1 - t_bake0 : 0.0;
-    r->t_write = t_end - (bake_path ? t_bake1 : t_bake0);
+    r->t_bake = bake_path ? t_bake1 - t_bake0 - mo.t_write : 0.0;
+    r->t_write = t_end - (bake_path ? t_bake1 : t_bake0) + mo.t_write;
 
 done:
     if (devout)
@@ -524,7 +615,7 @@ done:
     free(gltf_tan);
     if (of.fp)
         bgt_safe_abort(&of);
-    bg_image_free(&img);
+    map_free(&mo);
     free(outs);
     free(stats);
     if (!file_normals) {

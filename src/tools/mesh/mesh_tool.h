@@ -63,14 +63,25 @@ typedef enum mesh_tangent_source {
     MESH_TANGENTS_MIKK = 0, /* bgt_mikk_tangents of the unit vertex normals (default) */
     MESH_TANGENTS_FILE = 1  /* the file's per-vertex tangents (bg_mesh tx..tw) */
 } mesh_tangent_source;
+/* UDIM tiles (the Mari convention): tile number 1001 + u_tile + 10 * v_tile
+ * with u_tile = floor(u) in 0..9 and v_tile = floor(v) in 0..MESH_UDIM_V_TILES-1
+ * (four digits). A bake whose path holds the token writes one image per tile
+ * that a triangle's UV bounding box touches and at least one texel centre of
+ * which is covered; at most MESH_UDIM_MAX_TILES tiles (more is refused before
+ * any baking: each tile is a full W x H bake). */
+#define MESH_UDIM_TOKEN "<UDIM>"
+#define MESH_UDIM_MAX_TILES 100
+#define MESH_UDIM_V_TILES 899
 typedef struct mesh_bake_opts {
-    int width, height;
+    int width, height;   /* per tile */
     mesh_bake_space space;
     int padding;
     bg_perturb_method method;
     int threads;
     mesh_tangent_source tangents;
     int green_down;      /* store -m.y (DirectX normal maps, --normal-map-y -y) */
+    int udim;            /* bake every UDIM tile (else the unit square only, tile 1001) */
+    const bgt_progress *progress; /* texels shaded, over all tiles; may be NULL */
 } mesh_bake_opts;
 typedef struct mesh_bake_stats {
     size_t covered;      /* texels inside some triangle */
@@ -80,14 +91,25 @@ typedef struct mesh_bake_stats {
     size_t overlap_texels;   /* texel centres strictly inside two or more triangles */
     size_t overlap_islands;  /* islands with a triangle in such an overlap */
     bgt_mikk_stats mikk;     /* of the mikkTSpace tangents (tangent space, MESH_TANGENTS_MIKK) */
+    size_t tiles;            /* images handed to the sink */
+    int tile_udim[MESH_UDIM_MAX_TILES]; /* their UDIM numbers in order (1001 without udim) */
 } mesh_bake_stats;
-/* Rasterize the mesh in UV space into `img` (allocated here, 3 channels,
- * encoded 0.5 * m + 0.5). `nx/ny/nz` are the unit vertex normals; `h` is
- * opened. BG_OK, or BG_ERR_OUT_OF_MEMORY (also for more than INT32_MAX
- * triangles) with a message in *e. */
+/* Receives each finished tile (3 channels, encoded 0.5 * m + 0.5), in UDIM
+ * order; the image is freed after the call. A status other than BG_OK stops
+ * the bake and is returned. */
+typedef bg_status (*mesh_bake_sink)(void *ctx, int udim, const bg_image *img, bgt_err *e);
+/* Rasterize the mesh in UV space, one tile after the other (tile (a, b)
+ * holds u in [a, a + 1], v in [b, b + 1]; the tangent frames are computed once
+ * from the unshifted UVs). `nx/ny/nz` are the unit vertex normals; `h` is
+ * opened. BG_OK; BG_ERR_INVALID_ARGUMENT when a tile's memory exceeds the cap
+ * (bgt_check_alloc) or the UVs span more than MESH_UDIM_MAX_TILES tiles;
+ * BG_ERR_OUT_OF_MEMORY (also for more than INT32_MAX triangles); or the
+ * sink's status; with a message in *e. */
 bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
-                    const bgt_height *h, const mesh_bake_opts *o, bg_image *img,
-                    mesh_bake_stats *stats, bgt_err *e);
+                    const bgt_height *h, const mesh_bake_opts *o, mesh_bake_sink sink,
+                    void *sink_ctx, mesh_bake_stats *stats, bgt_err *e);
+/* The bytes a W x H tile needs while baking (per-texel buffers + the image). */
+double mesh_bake_tile_bytes(int width, int height);
 
 /* ---- the whole job of `bumpgrad mesh` (mesh_job.c) ---- */
 typedef struct bgt_mesh_opts {
@@ -105,6 +127,7 @@ typedef struct bgt_mesh_opts {
     mesh_bake_opts bake;     /* width, height (> 0 with bake_path), space, padding;
                               * method and threads are taken from above */
     int bake_depth;          /* a bg_pixel_type, or -1: half for .exr, else 8 bits */
+    const bgt_progress *progress; /* the bake's progress (texels), may be NULL */
 } bgt_mesh_opts;
 
 /* Mesh output formats, chosen by OUT's extension (case-insensitive); "-" and
@@ -148,8 +171,11 @@ bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e);
  * vertex normals, evaluate the height and perturb every normal (Mikkelsen 2010
  * eq. 2 and 4, Listing 3), write OUT.ply (through common/safe_file.h; an
  * existing device such as /dev/null is written in place) and/or bake and write
- * the normal map (bg_image_write, itself temp + rename). The PLY is renamed
- * into place only after the map was written. *r is filled on success.
+ * the normal map, one image per UDIM tile when bake_path holds MESH_UDIM_TOKEN
+ * (each tile written by bg_image_write to a temporary as soon as it is baked;
+ * all tiles renamed into place at the end, then the mesh output). A failure
+ * before the renames leaves no new file and every old one as it was. *r is
+ * filled on success (r->bake.tiles, r->bake.tile_udim: the tiles written).
  * Status: BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT for bad input (paths,
  * height, a missing or malformed mesh, a bake without UVs, a map name without
  * an image format); BG_ERR_IO or BG_ERR_OUT_OF_MEMORY when the run fails. */

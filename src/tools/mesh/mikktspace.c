@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "mesh/mesh_sort.h"
 
 typedef struct d3 {
     double x, y, z;
@@ -30,6 +31,28 @@ static d3 d3_unit_if(d3 a)
 /* a minus its component along the unit n, normalized when it has a direction */
 static d3 d3_tangential(d3 a, d3 n) { return d3_unit_if(d3_sub(a, d3_scale(n, d3_dot(n, a)))); }
 
+/* The same in float, in the reference's order of operations: only the split
+ * test of rule 5 uses these. Whether two projected directions point "exactly
+ * opposite" is decided by float rounding there (a cosine of -0.99999999999
+ * rounds to -1 or not), so the test repeats the float arithmetic the
+ * algorithm prescribes operation for operation (v - (n . v) n, then v scaled
+ * by 1 / |v|, dot products summed x, y, z) rather than a double approximation
+ * of it; sums and weights stay in double (docs/MESH.md, "the 180 degree
+ * split"). FLT_EVAL_METHOD 0 and -ffp-contract=off keep every step a float
+ * operation. */
+typedef struct f3 {
+    float x, y, z;
+} f3;
+static f3 f3_sub(f3 a, f3 b) { return (f3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static f3 f3_scale(float s, f3 a) { return (f3){s * a.x, s * a.y, s * a.z}; }
+static float f3_dot(f3 a, f3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static int f3_nonzero(f3 a) { return fabsf(a.x) > FLT_MIN || fabsf(a.y) > FLT_MIN || fabsf(a.z) > FLT_MIN; }
+static f3 f3_tangential(f3 a, f3 n)
+{
+    f3 r = f3_sub(a, f3_scale(f3_dot(n, a), n));
+    return f3_nonzero(r) ? f3_scale(1.0f / sqrtf(f3_dot(r, r)), r) : r;
+}
+
 enum { TRI_DEGENERATE = 1, TRI_ANY = 2, TRI_PRESERVING = 4 };
 
 typedef struct mikk {
@@ -38,6 +61,7 @@ typedef struct mikk {
     uint32_t *weld;   /* per vertex: representative vertex of its welded class */
     uint8_t *flags;   /* per triangle */
     d3 *os, *ot;      /* per triangle: unit dP/du and dP/dv directions, oriented */
+    f3 *fos, *fot;    /* the same in float (the split test of rule 5) */
     int32_t *nb;      /* per triangle edge k (corner k to k+1): neighbour, -1 */
     int32_t *grp;     /* per corner: fan, -1 */
     /* fans */
@@ -54,31 +78,47 @@ static uint32_t wv(const mikk *k, size_t corner) { return k->weld[k->m->indices[
 
 static d3 pos(const bgt_mikk_mesh *m, uint32_t i) { return (d3){m->px[i], m->py[i], m->pz[i]}; }
 static d3 nrm(const bgt_mikk_mesh *m, uint32_t i) { return (d3){m->nx[i], m->ny[i], m->nz[i]}; }
+static f3 fpos(const bgt_mikk_mesh *m, uint32_t i) { return (f3){m->px[i], m->py[i], m->pz[i]}; }
+static f3 fnrm(const bgt_mikk_mesh *m, uint32_t i) { return (f3){m->nx[i], m->ny[i], m->nz[i]}; }
+
+/* Rule 3 in float for the split test: dP/du = dv2 e1 - dv1 e2 and
+ * dP/dv = -du2 e1 + du1 e2 (UV differences and edges rounded to float first),
+ * scaled by (sign of the float area) / length. */
+static void float_directions(mikk *k, size_t t)
+{
+    const bgt_mikk_mesh *m = k->m;
+    const uint32_t *ix = m->indices + 3 * t;
+    float du1 = m->u[ix[1]] - m->u[ix[0]], dv1 = m->v[ix[1]] - m->v[ix[0]];
+    float du2 = m->u[ix[2]] - m->u[ix[0]], dv2 = m->v[ix[2]] - m->v[ix[0]];
+    f3 p0 = fpos(m, ix[0]);
+    f3 e1 = f3_sub(fpos(m, ix[1]), p0), e2 = f3_sub(fpos(m, ix[2]), p0);
+    float area = du1 * dv2 - dv1 * du2;
+    f3 s = f3_sub(f3_scale(dv2, e1), f3_scale(dv1, e2));
+    f3 a = f3_scale(-du2, e1), b = f3_scale(du1, e2);
+    f3 tt = {a.x + b.x, a.y + b.y, a.z + b.z};
+    k->fos[t] = k->fot[t] = (f3){0.0f, 0.0f, 0.0f};
+    if (!(fabsf(area) > FLT_MIN))
+        return;
+    float sg = area > 0.0f ? 1.0f : -1.0f;
+    float ls = sqrtf(f3_dot(s, s)), lt = sqrtf(f3_dot(tt, tt));
+    if (ls > FLT_MIN)
+        k->fos[t] = f3_scale(sg / ls, s);
+    if (lt > FLT_MIN)
+        k->fot[t] = f3_scale(sg / lt, tt);
+}
 
 /* ---- 1. welding ---- */
 
-static uint32_t key_bits(float f)
-{
-    if (f == 0.0f)
-        f = 0.0f; /* -0 welds with +0, as float == does */
-    uint32_t b;
-    memcpy(&b, &f, sizeof b);
-    return b;
-}
-
+/* k: the 8 attributes as keys (-0 welds with +0, as float == does), then
+ * the vertex index */
 typedef struct vkey {
-    uint32_t k[8];
-    uint32_t idx;
+    uint32_t k[9];
     uint32_t nan; /* some attribute is NaN: equal to nothing */
 } vkey;
 
 static int cmp_vkey(const void *a, const void *b)
 {
-    const vkey *x = a, *y = b;
-    for (int j = 0; j < 8; j++)
-        if (x->k[j] != y->k[j])
-            return x->k[j] < y->k[j] ? -1 : 1;
-    return x->idx < y->idx ? -1 : x->idx > y->idx;
+    return mesh_keys_cmp(((const vkey *)a)->k, ((const vkey *)b)->k, 9);
 }
 
 /* weld[i] = smallest vertex index with the same attributes; returns the
@@ -108,10 +148,10 @@ static size_t weld_vertices(mikk *k)
         const float f[8] = {m->px[i], m->py[i], m->pz[i], m->nx[i],
                             m->ny[i], m->nz[i], m->u[i],  m->v[i]};
         vkey *q = keys + nu++;
-        q->idx = (uint32_t)i;
+        q->k[8] = (uint32_t)i;
         q->nan = 0;
         for (int j = 0; j < 8; j++) {
-            q->k[j] = key_bits(f[j]);
+            q->k[j] = mesh_float_key(f[j]);
             q->nan |= isnan(f[j]) ? 1u : 0u;
         }
     }
@@ -120,10 +160,10 @@ static size_t weld_vertices(mikk *k)
     size_t classes = 0;
     for (size_t j = 0; j < nu; j++) {
         const vkey *q = keys + j;
-        if (j > 0 && !q->nan && !q[-1].nan && memcmp(q->k, q[-1].k, sizeof q->k) == 0) {
-            k->weld[q->idx] = k->weld[q[-1].idx];
+        if (j > 0 && !q->nan && !q[-1].nan && mesh_keys_cmp(q->k, q[-1].k, 8) == 0) {
+            k->weld[q->k[8]] = k->weld[q[-1].k[8]];
         } else {
-            k->weld[q->idx] = q->idx; /* first of its run = smallest index */
+            k->weld[q->k[8]] = q->k[8]; /* first of its run = smallest index */
             classes++;
         }
     }
@@ -140,6 +180,7 @@ static void classify(mikk *k, bgt_mikk_stats *st)
         const uint32_t *ix = m->indices + 3 * t;
         d3 p0 = pos(m, ix[0]), p1 = pos(m, ix[1]), p2 = pos(m, ix[2]);
         k->os[t] = k->ot[t] = (d3){0, 0, 0};
+        k->fos[t] = k->fot[t] = (f3){0.0f, 0.0f, 0.0f};
         k->flags[t] = 0;
         int finite = isfinite(p0.x) && isfinite(p0.y) && isfinite(p0.z) && isfinite(p1.x) &&
                      isfinite(p1.y) && isfinite(p1.z) && isfinite(p2.x) && isfinite(p2.y) &&
@@ -174,28 +215,22 @@ static void classify(mikk *k, bgt_mikk_stats *st)
             f |= TRI_ANY;
             st->zero_uv_area++;
         }
+        float_directions(k, t);
         k->flags[t] = f;
     }
 }
 
 /* ---- 4a. edge neighbours ---- */
 
+/* k: lower and higher welded vertex, triangle, edge number in it */
 typedef struct edge {
-    uint32_t lo, hi;
-    int32_t tri;
-    int32_t k;
+    uint32_t k[4];
 } edge;
+enum { E_LO, E_HI, E_TRI, E_K };
 
 static int cmp_edge(const void *a, const void *b)
 {
-    const edge *x = a, *y = b;
-    if (x->lo != y->lo)
-        return x->lo < y->lo ? -1 : 1;
-    if (x->hi != y->hi)
-        return x->hi < y->hi ? -1 : 1;
-    if (x->tri != y->tri)
-        return x->tri < y->tri ? -1 : 1;
-    return (x->k > y->k) - (x->k < y->k);
+    return mesh_keys_cmp(((const edge *)a)->k, ((const edge *)b)->k, 4);
 }
 
 static int build_neighbours(mikk *k)
@@ -213,21 +248,23 @@ static int build_neighbours(mikk *k)
             continue;
         for (int c = 0; c < 3; c++) {
             uint32_t a = wv(k, 3 * t + (size_t)c), b = wv(k, 3 * t + (size_t)((c + 1) % 3));
-            e[n++] = (edge){a < b ? a : b, a < b ? b : a, (int32_t)t, c};
+            e[n++] = (edge){{a < b ? a : b, a < b ? b : a, (uint32_t)t, (uint32_t)c}};
         }
     }
     qsort(e, n, sizeof *e, cmp_edge);
     for (size_t i = 0; i < n; i++) {
-        size_t ca = 3 * (size_t)e[i].tri + (size_t)e[i].k;
+        const uint32_t *ei = e[i].k;
+        size_t ca = 3 * (size_t)ei[E_TRI] + ei[E_K];
         if (k->nb[ca] >= 0)
             continue;
-        uint32_t from = wv(k, ca), to = wv(k, 3 * (size_t)e[i].tri + (size_t)((e[i].k + 1) % 3));
-        for (size_t j = i + 1; j < n && e[j].lo == e[i].lo && e[j].hi == e[i].hi; j++) {
-            size_t cb = 3 * (size_t)e[j].tri + (size_t)e[j].k;
-            uint32_t bf = wv(k, cb), bt = wv(k, 3 * (size_t)e[j].tri + (size_t)((e[j].k + 1) % 3));
+        uint32_t from = wv(k, ca), to = wv(k, 3 * (size_t)ei[E_TRI] + (ei[E_K] + 1) % 3);
+        for (size_t j = i + 1; j < n && mesh_keys_cmp(e[j].k, ei, 2) == 0; j++) {
+            const uint32_t *ej = e[j].k;
+            size_t cb = 3 * (size_t)ej[E_TRI] + ej[E_K];
+            uint32_t bf = wv(k, cb), bt = wv(k, 3 * (size_t)ej[E_TRI] + (ej[E_K] + 1) % 3);
             if (bf == to && bt == from && k->nb[cb] < 0) {
-                k->nb[ca] = e[j].tri;
-                k->nb[cb] = e[i].tri;
+                k->nb[ca] = (int32_t)ej[E_TRI];
+                k->nb[cb] = (int32_t)ei[E_TRI];
                 break;
             }
         }
@@ -364,19 +401,22 @@ static void fan_output(const mikk *k, size_t g, float *out, int32_t *scratch)
         }
         return;
     }
-    d3 ps[MIKK_SPLIT_MAX], pt[MIKK_SPLIT_MAX];
+    f3 ps[MIKK_SPLIT_MAX], pt[MIKK_SPLIT_MAX];
     for (size_t i = 0; i < n; i++) {
         size_t t = (size_t)mem[i];
-        d3 nn = nrm(m, m->indices[3 * t + (size_t)corner_of(k, t, vert)]);
-        ps[i] = d3_tangential(k->os[t], nn);
-        pt[i] = d3_tangential(k->ot[t], nn);
+        f3 nn = fnrm(m, m->indices[3 * t + (size_t)corner_of(k, t, vert)]);
+        ps[i] = f3_tangential(k->fos[t], nn);
+        pt[i] = f3_tangential(k->fot[t], nn);
     }
     /* scratch: member lists of the distinct subfans found so far, each
      * preceded by its length; tangents alongside. */
     size_t nsub = 0, used = 0;
     size_t sub_off[MIKK_SPLIT_MAX];
     d3 sub_tan[MIKK_SPLIT_MAX];
-    const double opposite = -1.0 + FLT_EPSILON; /* -1 up to float rounding */
+    /* cos(180 deg) rounded to float, the reference's default threshold: -1,
+     * so only a float cosine that rounds to -1 splits */
+    const float pi_f = 3.14159265358979323846f;
+    const float opposite = (float)cos((180.0f * pi_f) / 180.0f);
     for (size_t i = 0; i < n; i++) {
         size_t t = (size_t)mem[i];
         int32_t *list = scratch + used + 1;
@@ -385,7 +425,7 @@ static void fan_output(const mikk *k, size_t g, float *out, int32_t *scratch)
             size_t u = (size_t)mem[j];
             int any = ((k->flags[t] | k->flags[u]) & TRI_ANY) != 0;
             if (any || i == j ||
-                (d3_dot(ps[i], ps[j]) > opposite && d3_dot(pt[i], pt[j]) > opposite))
+                (f3_dot(ps[i], ps[j]) > opposite && f3_dot(pt[i], pt[j]) > opposite))
                 list[cnt++] = (int32_t)u;
         }
         size_t s;
@@ -436,6 +476,8 @@ bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *
     k.flags = malloc(T);
     k.os = malloc(T * sizeof *k.os);
     k.ot = malloc(T * sizeof *k.ot);
+    k.fos = malloc(T * sizeof *k.fos);
+    k.fot = malloc(T * sizeof *k.fot);
     k.nb = malloc(3 * T * sizeof *k.nb);
     k.grp = malloc(3 * T * sizeof *k.grp);
     k.g_vert = malloc(3 * T * sizeof *k.g_vert);
@@ -447,7 +489,7 @@ bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *
     int32_t *scratch = malloc((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1) * sizeof *scratch);
     int32_t *first = NULL;
     bg_status rc = BG_ERR_OUT_OF_MEMORY;
-    if (!k.weld || !k.flags || !k.os || !k.ot || !k.nb || !k.grp || !k.g_vert || !k.g_pres ||
+    if (!k.weld || !k.flags || !k.os || !k.ot || !k.fos || !k.fot || !k.nb || !k.grp || !k.g_vert || !k.g_pres ||
         !k.g_start || !k.g_count || !k.members || !k.stack || !scratch)
         goto done;
     st.welded_vertices = weld_vertices(&k);
@@ -494,6 +536,8 @@ done:
     free(k.flags);
     free(k.os);
     free(k.ot);
+    free(k.fos);
+    free(k.fot);
     free(k.nb);
     free(k.grp);
     free(k.g_vert);

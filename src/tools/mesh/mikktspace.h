@@ -33,6 +33,12 @@
  *     corner's normal n; normalized. Triangles of a fan whose projected os
  *     (or ot) point exactly opposite are split apart first (the 180 degree
  *     threshold of the reference; skipped in fans of more than 256 triangles).
+ *     "Exactly opposite" means a cosine not above cos(180 deg) rounded to
+ *     float, i.e. -1, with the directions, projections, normalizations and
+ *     the cosine computed in float in the order the description gives them:
+ *     on real meshes (SphereWithLight.ac) cosines of -0.99999999999 occur,
+ *     which float rounding sends to -1 or not, and only this order of float
+ *     operations splits such pairs as the reference does.
  *  6. Output per corner: the tangent t (unit, orthogonal to n up to rounding)
  *     and the sign w = +1 / -1 of its fan; the bitangent is w cross(n, t).
  *     A corner that no fan reaches (a zero-UV-area island) gets (1,0,0), -1,
