@@ -42,8 +42,7 @@ bg_dvec3 bg_surfgrad_from_screen_derivsd(bg_dvec3 n, bg_dvec3 dpdx, bg_dvec3 dpd
 bg_vec3 bg_surfgrad_from_screen_derivs(bg_vec3 n, bg_vec3 dpdx, bg_vec3 dpdy, float dhdx,
                                        float dhdy)
 {
-    return bg_f3_from_dv(bg_surfgrad_from_param_derivsd(bg_dv3_from_f(n), bg_dv3_from_f(dpdx),
-                                                        bg_dv3_from_f(dpdy), dhdx, dhdy));
+    return bg_surfgrad_from_param_derivs(n, dpdx, dpdy, dhdx, dhdy); /* the same eq. 3 */
 }
 
 /* ---- Listing 1 -------------------------------------------------------------------- */
