@@ -266,27 +266,37 @@ static int line_is_blank(const char *s, size_t n)
     return 1;
 }
 
-bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
+/* The header line of both header readers: the wanted names joined by ',' into
+ * want (for messages), the line in *s, *n and in *pos its first byte after a
+ * UTF-8 byte-order mark; an empty input is an error naming the header. */
+static bg_status header_line(bgt_csv *c, const char *const *names, int count, char want[128],
+                             char **s, size_t *n, size_t *pos)
 {
-    char *s;
-    size_t n;
-    char want[128] = "", got[64];
+    want[0] = '\0';
     for (int k = 0; k < count; k++) {
-        strncat(want, names[k], sizeof want - strlen(want) - 2);
+        strncat(want, names[k], 128 - strlen(want) - 2);
         if (k + 1 < count)
             strcat(want, ",");
     }
-    int r = next_line(c, &s, &n);
+    int r = next_line(c, s, n);
     if (r < 0)
         return (bg_status)-r;
     if (r == 0) {
         c->line = 1;
         return row_error(c, 1, "empty input, expected the header \"%s\"", want);
     }
-    size_t pos = 0;
     /* A byte-order mark is what spreadsheet exports put first; it is not data. */
-    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
-        pos = 3;
+    *pos = *n >= 3 && memcmp(*s, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    return BG_OK;
+}
+
+bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
+{
+    char *s, want[128], got[64];
+    size_t n, pos;
+    bg_status st = header_line(c, names, count, want, &s, &n, &pos);
+    if (st)
+        return st;
     for (int k = 0; k < count; k++) {
         while (pos < n && is_blank_char(s[pos]))
             pos++;
@@ -339,25 +349,12 @@ static int same_name(const char *s, size_t n, const char *name)
 
 bg_status bgt_csv_header_map(bgt_csv *c, const char *const *names, int count)
 {
-    char *s;
-    size_t n;
-    char want[128] = "", got[64];
-    for (int k = 0; k < count; k++) {
-        strncat(want, names[k], sizeof want - strlen(want) - 2);
-        if (k + 1 < count)
-            strcat(want, ",");
-    }
-    int r = next_line(c, &s, &n);
-    if (r < 0)
-        return (bg_status)-r;
-    if (r == 0) {
-        c->line = 1;
-        return row_error(c, 1, "empty input, expected the header \"%s\"", want);
-    }
-    size_t pos = 0;
-    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
-        pos = 3;
     int have[BGT_CSV_MAX_COLS] = {0}, found = 0, identity = 1;
+    char *s, want[128], got[64];
+    size_t n, pos;
+    bg_status st = header_line(c, names, count, want, &s, &n, &pos);
+    if (st != BG_OK)
+        return st;
     c->ncols = 0;
     c->id_header[0] = c->extra_header[0] = '\0';
     for (;;) {
