@@ -44,8 +44,8 @@ static int wrap_index(long i, int size, bg_wrap wrap)
 /* Where (s, t) falls between texel centres: the texel (*i, *j) below and left of
  * it after reduce(), and the fractions *fx, *fy towards the next; 0 if s or t is
  * not finite. Bilinear sampling and the bicubic derivatives both start here. */
-static int texel_cell(const bg_height_texture *tex, double s, double t, long *i, long *j,
-                      double *fx, double *fy)
+static inline int texel_cell(const bg_height_texture *tex, double s, double t, long *i, long *j,
+                             double *fx, double *fy)
 {
     if (!isfinite(s) || !isfinite(t))
         return 0;

@@ -12,17 +12,19 @@
  * component, which no valid result can be (surfgrad.h). */
 bg_vec3 bg_perturb(bg_perturb_method method, bg_vec3 n, bg_vec3 g)
 {
-    bg_vec3 r = {NAN, NAN, NAN};
-    if (bg_perturb_method_ok(method))
-        bg_kernels_c.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
+    if (!bg_perturb_method_ok(method))
+        return (bg_vec3){NAN, NAN, NAN};
+    bg_vec3 r;
+    bg_kernels_c.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
     return r;
 }
 
 bg_dvec3 bg_perturbd(bg_perturb_method method, bg_dvec3 n, bg_dvec3 g)
 {
-    bg_dvec3 r = {NAN, NAN, NAN};
-    if (bg_perturb_method_ok(method))
-        bg_kernels_c64.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
+    bg_dvec3 r;
+    if (!bg_perturb_method_ok(method))
+        return (bg_dvec3){NAN, NAN, NAN};
+    bg_kernels_c64.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
     return r;
 }
 
