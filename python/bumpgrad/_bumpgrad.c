@@ -84,6 +84,16 @@ static void *get(bufs *B, PyObject *o, char fmt, Py_ssize_t *n, int writable, in
     return b->buf;
 }
 
+/* The end of every batch call: the buffers released; None, or NULL (!ok) with
+ * the Python error already set. */
+static PyObject *done(bufs *B, int ok)
+{
+    release(B);
+    if (!ok)
+        return NULL;
+    Py_RETURN_NONE;
+}
+
 /* Fetch k required buffers into ptrs. */
 static int getn(bufs *B, PyObject **objs, void **ptrs, int k, char fmt, Py_ssize_t *n,
                 int writable)
@@ -94,6 +104,20 @@ static int getn(bufs *B, PyObject **objs, void **ptrs, int k, char fmt, Py_ssize
             return 0;
     }
     return 1;
+}
+
+/* The buffers of a batch call, in argument order: k inputs, one optional output
+ * (None gives NULL) and nout outputs, all of one length *n. 0 with the Python
+ * error set. */
+static int get_batch(bufs *B, PyObject **objs, int k, char fmt, Py_ssize_t *n, void **in,
+                     void **opt, void **out, int nout)
+{
+    if (!getn(B, objs, in, k, fmt, n, 0))
+        return 0;
+    *opt = get(B, objs[k], fmt, n, 1, 1);
+    if (PyErr_Occurred())
+        return 0;
+    return getn(B, objs + k + 1, out, nout, fmt, n, 1);
 }
 
 static int parse_fractal(int function, int octaves, float lacunarity, float gain, bg_fractal *f)
@@ -132,13 +156,8 @@ static PyObject *py_fractal(PyObject *self, PyObject *args)
     const char fmt = dbl ? 'd' : 'f';
     bufs B = {.count = 0};
     Py_ssize_t n = -1;
-    void *p[3], *v, *g[3] = {NULL, NULL, NULL};
-    if (!getn(&B, o, p, 3, fmt, &n, 0))
-        goto fail;
-    v = get(&B, o[3], fmt, &n, 1, 1);
-    if (PyErr_Occurred())
-        goto fail;
-    if (mode != 0 && !getn(&B, o + 4, g, 3, fmt, &n, 1))
+    void *p[3], *v = NULL, *g[3] = {NULL, NULL, NULL};
+    if (!get_batch(&B, o, 3, fmt, &n, p, &v, g, mode != 0 ? 3 : 0))
         goto fail;
     const size_t N = (size_t)n;
     Py_BEGIN_ALLOW_THREADS
@@ -178,11 +197,9 @@ static PyObject *py_fractal(PyObject *self, PyObject *args)
         }
     }
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 fail:
-    release(&B);
-    return NULL;
+    return done(&B, 0);
 }
 
 /* footprint(function, octaves, lacunarity, gain, fp, x, y, z, value|None, gx, gy, gz) float32 */
@@ -200,20 +217,15 @@ static PyObject *py_footprint(PyObject *self, PyObject *args)
         return NULL;
     bufs B = {.count = 0};
     Py_ssize_t n = -1;
-    void *p[4], *v, *g[3];
-    if (!getn(&B, o, p, 4, 'f', &n, 0))
-        goto fail;
-    v = get(&B, o[4], 'f', &n, 1, 1);
-    if (PyErr_Occurred() || !getn(&B, o + 5, g, 3, 'f', &n, 1))
+    void *p[4], *v = NULL, *g[3];
+    if (!get_batch(&B, o, 4, 'f', &n, p, &v, g, 3))
         goto fail;
     Py_BEGIN_ALLOW_THREADS
     bg_fractal3_grad_footprint_batch(&f, p[0], p[1], p[2], p[3], (size_t)n, v, g[0], g[1], g[2]);
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 fail:
-    release(&B);
-    return NULL;
+    return done(&B, 0);
 }
 
 /* octaves(kind, footprint, out, lacunarity, octave|max_octaves): kind 0 bg_octave_weight,
@@ -231,15 +243,13 @@ static PyObject *py_octaves(PyObject *self, PyObject *args)
     const float *fp = get(&B, o[0], 'f', &n, 0, 0);
     float *out = fp ? get(&B, o[1], 'f', &n, 1, 0) : NULL;
     if (!out) {
-        release(&B);
-        return NULL;
+        return done(&B, 0);
     }
     Py_BEGIN_ALLOW_THREADS
     for (Py_ssize_t i = 0; i < n; i++)
         out[i] = kind == 0 ? bg_octave_weight(fp[i], lac, k) : bg_octaves_for_footprint(fp[i], k);
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 }
 
 /* ---- surface gradient and perturbation ------------------------------------------------ */
@@ -267,8 +277,7 @@ static PyObject *py_vec(PyObject *self, PyObject *args)
     Py_ssize_t n = -1;
     void *in[9], *out[3];
     if (!getn(&B, o, in, nin, fmt, &n, 0) || !getn(&B, o + 9, out, 3, fmt, &n, 1)) {
-        release(&B);
-        return NULL;
+        return done(&B, 0);
     }
     const size_t N = (size_t)n;
     Py_BEGIN_ALLOW_THREADS
@@ -312,8 +321,7 @@ static PyObject *py_vec(PyObject *self, PyObject *args)
         }
     }
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 }
 
 /* accumulate(weight, gx, gy, gz, ax, ay, az): a += weight * g, float32 */
@@ -328,14 +336,12 @@ static PyObject *py_accumulate(PyObject *self, PyObject *args)
     Py_ssize_t n = -1;
     void *g[3], *a[3];
     if (!getn(&B, o, g, 3, 'f', &n, 0) || !getn(&B, o + 3, a, 3, 'f', &n, 1)) {
-        release(&B);
-        return NULL;
+        return done(&B, 0);
     }
     Py_BEGIN_ALLOW_THREADS
     bg_surfgrad_accumulate_batch(w, g[0], g[1], g[2], (size_t)n, a[0], a[1], a[2]);
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 }
 
 /* triplanar(double, k, nx, ny, nz, d_yz.x, .y, d_xz.x, .y, d_xy.x, .y, ox, oy, oz)
@@ -356,8 +362,7 @@ static PyObject *py_triplanar(PyObject *self, PyObject *args)
     void *nn[3], *d[6] = {NULL}, *r[3];
     if (!getn(&B, o, nn, 3, fmt, &n, 0) || (!weights_only && !getn(&B, o + 3, d, 6, fmt, &n, 0)) ||
         !getn(&B, o + 9, r, 3, fmt, &n, 1)) {
-        release(&B);
-        return NULL;
+        return done(&B, 0);
     }
     const size_t N = (size_t)n;
     Py_BEGIN_ALLOW_THREADS
@@ -389,8 +394,7 @@ static PyObject *py_triplanar(PyObject *self, PyObject *args)
         }
     }
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 }
 
 /* perturb_height(function, octaves, lacunarity, gain, amplitude, frequency, gradient, step,
@@ -421,11 +425,8 @@ static PyObject *py_perturb_height(PyObject *self, PyObject *args)
         return raise_status(BG_ERR_INVALID_ARGUMENT, "perturbation method");
     bufs B = {.count = 0};
     Py_ssize_t n = -1;
-    void *in[6], *hv, *out[3], *fp;
-    if (!getn(&B, o, in, 6, 'f', &n, 0))
-        goto fail;
-    hv = get(&B, o[6], 'f', &n, 1, 1);
-    if (PyErr_Occurred() || !getn(&B, o + 7, out, 3, 'f', &n, 1))
+    void *in[6], *hv = NULL, *out[3], *fp;
+    if (!get_batch(&B, o, 6, 'f', &n, in, &hv, out, 3))
         goto fail;
     fp = get(&B, o[10], 'f', &n, 0, 1);
     if (PyErr_Occurred())
@@ -439,11 +440,9 @@ static PyObject *py_perturb_height(PyObject *self, PyObject *args)
         bg_perturb_height_batch(&h, (bg_perturb_method)method, in[0], in[1], in[2], in[3], in[4],
                                 in[5], (size_t)n, hv, out[0], out[1], out[2]);
     Py_END_ALLOW_THREADS
-    release(&B);
-    Py_RETURN_NONE;
+    return done(&B, 1);
 fail:
-    release(&B);
-    return NULL;
+    return done(&B, 0);
 }
 
 /* ---- ISA and version --------------------------------------------------------------------- */

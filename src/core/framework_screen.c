@@ -26,11 +26,20 @@ bg_dvec3 bg_surfgrad_from_param_derivsd(bg_dvec3 n, bg_dvec3 sigma_s, bg_dvec3 s
     return bg_dv3_finite(g) ? g : bg_dv3_zero();
 }
 
-bg_vec3 bg_surfgrad_from_param_derivs(bg_vec3 n, bg_vec3 sigma_s, bg_vec3 sigma_t, float beta_s,
-                                      float beta_t)
+/* Eq. 3 in float: computed in double, rounded once. Static (inlined into both
+ * float entry points): an exported function may be interposed, so one calling
+ * the other would cost a call. */
+static inline bg_vec3 param_derivs_f(bg_vec3 n, bg_vec3 sigma_s, bg_vec3 sigma_t, float beta_s,
+                                     float beta_t)
 {
     return bg_f3_from_dv(bg_surfgrad_from_param_derivsd(bg_dv3_from_f(n), bg_dv3_from_f(sigma_s),
                                                         bg_dv3_from_f(sigma_t), beta_s, beta_t));
+}
+
+bg_vec3 bg_surfgrad_from_param_derivs(bg_vec3 n, bg_vec3 sigma_s, bg_vec3 sigma_t, float beta_s,
+                                      float beta_t)
+{
+    return param_derivs_f(n, sigma_s, sigma_t, beta_s, beta_t);
 }
 
 bg_dvec3 bg_surfgrad_from_screen_derivsd(bg_dvec3 n, bg_dvec3 dpdx, bg_dvec3 dpdy, double dhdx,
@@ -42,8 +51,7 @@ bg_dvec3 bg_surfgrad_from_screen_derivsd(bg_dvec3 n, bg_dvec3 dpdx, bg_dvec3 dpd
 bg_vec3 bg_surfgrad_from_screen_derivs(bg_vec3 n, bg_vec3 dpdx, bg_vec3 dpdy, float dhdx,
                                        float dhdy)
 {
-    return bg_f3_from_dv(bg_surfgrad_from_param_derivsd(bg_dv3_from_f(n), bg_dv3_from_f(dpdx),
-                                                        bg_dv3_from_f(dpdy), dhdx, dhdy));
+    return param_derivs_f(n, dpdx, dpdy, dhdx, dhdy); /* the same eq. 3 */
 }
 
 /* ---- Listing 1 -------------------------------------------------------------------- */

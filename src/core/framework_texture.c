@@ -41,15 +41,28 @@ static int wrap_index(long i, int size, bg_wrap wrap)
     return (int)(i < size ? i : p - 1 - i); /* mirrored half */
 }
 
-static double sample_d(const bg_height_texture *tex, double s, double t)
+/* Where (s, t) falls between texel centres: the texel (*i, *j) below and left of
+ * it after reduce(), and the fractions *fx, *fy towards the next; 0 if s or t is
+ * not finite. Bilinear sampling and the bicubic derivatives both start here. */
+static inline int texel_cell(const bg_height_texture *tex, double s, double t, long *i, long *j,
+                             double *fx, double *fy)
 {
     if (!isfinite(s) || !isfinite(t))
-        return NAN;
+        return 0;
     double cx = reduce(s * tex->width - 0.5, tex->width, tex->wrap);
     double cy = reduce(t * tex->height - 0.5, tex->height, tex->wrap);
     double fx0 = floor(cx), fy0 = floor(cy);
-    double fx = cx - fx0, fy = cy - fy0;
-    long x0 = (long)fx0, y0 = (long)fy0;
+    *fx = cx - fx0, *fy = cy - fy0;
+    *i = (long)fx0, *j = (long)fy0;
+    return 1;
+}
+
+static double sample_d(const bg_height_texture *tex, double s, double t)
+{
+    long x0, y0;
+    double fx, fy;
+    if (!texel_cell(tex, s, t, &x0, &y0, &fx, &fy))
+        return NAN;
     int i0 = wrap_index(x0, tex->width, tex->wrap), i1 = wrap_index(x0 + 1, tex->width, tex->wrap);
     int j0 = wrap_index(y0, tex->height, tex->wrap),
         j1 = wrap_index(y0 + 1, tex->height, tex->wrap);
@@ -168,13 +181,10 @@ static double texel(const bg_height_texture *tex, long i, long j)
 static bg_dvec2 bicubic_derivs(const bg_height_texture *tex, double s, double t)
 {
     bg_dvec2 r = {NAN, NAN};
-    if (!isfinite(s) || !isfinite(t))
+    long i, j;
+    double fx, fy;
+    if (!texel_cell(tex, s, t, &i, &j, &fx, &fy))
         return r;
-    double cx = reduce(s * tex->width - 0.5, tex->width, tex->wrap);
-    double cy = reduce(t * tex->height - 0.5, tex->height, tex->wrap);
-    double fx0 = floor(cx), fy0 = floor(cy);
-    double fx = cx - fx0, fy = cy - fy0;
-    long i = (long)fx0, j = (long)fy0;
     /* The derivative along x at texel (a, b) is the central difference
      * (H[a+1] - H[a-1]) / 2, smoothed across by the [1 2 1]/4 binomial; both
      * fields are then interpolated bilinearly between the four texels around the

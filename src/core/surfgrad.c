@@ -12,11 +12,9 @@
  * component, which no valid result can be (surfgrad.h). */
 bg_vec3 bg_perturb(bg_perturb_method method, bg_vec3 n, bg_vec3 g)
 {
+    if (!bg_perturb_method_ok(method))
+        return (bg_vec3){NAN, NAN, NAN};
     bg_vec3 r;
-    if (!bg_perturb_method_ok(method)) {
-        r.x = r.y = r.z = NAN;
-        return r;
-    }
     bg_kernels_c.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
     return r;
 }
@@ -24,10 +22,8 @@ bg_vec3 bg_perturb(bg_perturb_method method, bg_vec3 n, bg_vec3 g)
 bg_dvec3 bg_perturbd(bg_perturb_method method, bg_dvec3 n, bg_dvec3 g)
 {
     bg_dvec3 r;
-    if (!bg_perturb_method_ok(method)) {
-        r.x = r.y = r.z = NAN;
-        return r;
-    }
+    if (!bg_perturb_method_ok(method))
+        return (bg_dvec3){NAN, NAN, NAN};
     bg_kernels_c64.perturb(method, &n.x, &n.y, &n.z, &g.x, &g.y, &g.z, 1, &r.x, &r.y, &r.z);
     return r;
 }
@@ -105,14 +101,14 @@ bg_height bg_height_default(void)
 
 bg_status bg_height_validate(const bg_height *h)
 {
-    if (!h)
-        return BG_ERR_NULL_POINTER;
-    if (!bg_height_in_range(h))
-        return BG_ERR_INVALID_ARGUMENT;
     /* The fractal's own octave sums, then the height's scale on top of them, as
      * the fused kernel applies it: q = f p, h = A F(q), grad = (A f) F'(q). */
     double sv, sg;
     float fmax;
+    if (!h)
+        return BG_ERR_NULL_POINTER;
+    if (!bg_height_in_range(h))
+        return BG_ERR_INVALID_ARGUMENT;
     if (!bg_fractal_octave_sums(&h->fractal, &sv, &sg, &fmax))
         return BG_ERR_OVERFLOW;
     float af = h->amplitude * h->frequency, top = fabsf(h->frequency) * fmax;

@@ -1,12 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /* Benchmark of the CSV reader: parse a table of 1M rows "x,y,z" (%.9g floats,
  * written here to a temporary file) with the decimal fast path and with
- * strtof only (the reader before the fast path), best of 3 runs each, in
- * process CPU time (the machine may be shared; wall time would measure the load).
+ * strtof only (the reader before the fast path): the median of 7 interleaved
+ * runs each, in process CPU time (the machine may be shared; wall time would
+ * measure the load). Instruction counts, which do not depend on the load:
+ *   valgrind --tool=callgrind --toggle-collect=run ./csv_bench 1000000 fast
+ *   valgrind --tool=callgrind --toggle-collect=run ./csv_bench 1000000 strtof
  * Run: meson test -C BUILD --benchmark csv-parse-1m -v   (or ./csv_bench [ROWS]) */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 #include "common/csv.h"
@@ -16,6 +20,12 @@ static double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
 }
 
 static double run(const char *path, size_t *rows_out)
@@ -41,6 +51,13 @@ static double run(const char *path, size_t *rows_out)
 int main(int argc, char **argv)
 {
     long n = argc > 1 ? atol(argv[1]) : 1000000;
+    /* "strtof" or "fast": one parse of that path only (for callgrind
+     * --toggle-collect=run, which counts the instructions of run() alone). */
+    const char *only = argc > 2 ? argv[2] : NULL;
+    if (n < 1 || (only && strcmp(only, "fast") != 0 && strcmp(only, "strtof") != 0)) {
+        fprintf(stderr, "usage: csv_bench [ROWS [fast|strtof]]\n");
+        return 2;
+    }
     char path[] = "/tmp/bumpgrad-csv-bench-XXXXXX";
     int fd = mkstemp(path);
     FILE *fp = fd >= 0 ? fdopen(fd, "w") : NULL;
@@ -57,19 +74,33 @@ int main(int argc, char **argv)
         fprintf(fp, "%.9g,%.9g,%.9g\n", (double)v[0], (double)v[1], (double)v[2]);
     }
     fclose(fp);
-    double best[2] = {1e9, 1e9};
     size_t rows = 0;
-    for (int rep = 0; rep < 3; rep++)
+    if (only) {
+        bgt_csv_fast_path = strcmp(only, "fast") == 0;
+        double t = run(path, &rows);
+        unlink(path);
+        printf("csv parse, %zu rows x 3 floats, %s: %.3f s (%.0f ns/row)\n", rows, only, t,
+               1e9 * t / (double)rows);
+        return 0;
+    }
+    /* Interleaved runs, median of each path (the machine may be loaded: the
+     * runs alternate so that a burst of load hits both alike). */
+    enum { REPS = 7 };
+    double ts[2][REPS];
+    for (int rep = 0; rep < REPS; rep++)
         for (int fast = 0; fast < 2; fast++) {
             bgt_csv_fast_path = fast;
-            double t = run(path, &rows);
-            if (t < best[fast])
-                best[fast] = t;
+            ts[fast][rep] = run(path, &rows);
         }
     unlink(path);
-    printf("csv parse, %zu rows x 3 floats: strtof %.3f s (%.0f ns/row), fast path %.3f s "
-           "(%.0f ns/row), speed-up %.1fx\n",
-           rows, best[0], 1e9 * best[0] / (double)rows, best[1], 1e9 * best[1] / (double)rows,
-           best[0] / best[1]);
+    double med[2];
+    for (int fast = 0; fast < 2; fast++) {
+        qsort(ts[fast], REPS, sizeof ts[fast][0], cmp_double);
+        med[fast] = ts[fast][REPS / 2];
+    }
+    printf("csv parse, %zu rows x 3 floats, median of %d interleaved runs (CPU time): strtof "
+           "%.3f s (%.0f ns/row), fast path %.3f s (%.0f ns/row), speed-up %.1fx\n",
+           rows, REPS, med[0], 1e9 * med[0] / (double)rows, med[1], 1e9 * med[1] / (double)rows,
+           med[0] / med[1]);
     return 0;
 }

@@ -19,6 +19,7 @@
 #include "bumpgrad.h"
 #include "kernels/kernels.h"
 #include "check.h"
+#include "../kernels/isa_child.h"
 
 /* Child: print "STATUS ACTIVE|MESSAGE" for the environment it was given. */
 static int child(void)
@@ -30,42 +31,6 @@ static int child(void)
         return 3;
     printf("%d %s|%s\n", (int)s, bg_isa_name(bg_isa_active()), msg);
     return 0;
-}
-
-/* Run the child with BUMPGRAD_ISA = value (NULL: unset); its line in `line`. */
-static int run_child(const char *self, const char *value, char *line, size_t sz)
-{
-    int fd[2];
-    if (pipe(fd) != 0)
-        return -1;
-    fflush(stdout);
-    pid_t pid = fork();
-    if (pid < 0)
-        return -1;
-    if (pid == 0) {
-        close(fd[0]);
-        dup2(fd[1], 1);
-        if (value)
-            setenv("BUMPGRAD_ISA", value, 1);
-        else
-            unsetenv("BUMPGRAD_ISA");
-        execl(self, self, "--child", (char *)NULL);
-        /* exec can fail under qemu-user without binfmt_misc: the forked copy
-         * has made no library call either, so it reads the variable afresh. */
-        int rc = child();
-        fflush(stdout);
-        _exit(rc);
-    }
-    close(fd[1]);
-    size_t got = 0;
-    ssize_t r;
-    while (got + 1 < sz && (r = read(fd[0], line + got, sz - 1 - got)) > 0)
-        got += (size_t)r;
-    line[got] = 0;
-    close(fd[0]);
-    int st;
-    waitpid(pid, &st, 0);
-    return WIFEXITED(st) && WEXITSTATUS(st) == 0 ? 0 : -1;
 }
 
 static const char *const names[] = {"scalar", "sse2", "avx2", "avx512", "neon"};
@@ -90,7 +55,8 @@ int main(int argc, char **argv)
     for (int i = 0; i < BG_ISA_COUNT; i++)
         runs[nruns++].value = names[i];
     for (int k = 0; k < nruns; k++)
-        runs[k].ok = run_child(argv[0], runs[k].value, runs[k].line, sizeof runs[k].line) == 0;
+        runs[k].ok =
+            run_child(argv[0], runs[k].value, runs[k].line, sizeof runs[k].line, child) == 0;
 
     /* The rule: scalar always, nothing outside the enum, and exactly what
      * bg_isa_force() accepts; every supported level has a kernel table. */

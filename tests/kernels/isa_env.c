@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "bumpgrad.h"
+#include "isa_child.h"
 
 enum { N = 3001, NAPI = 12 }; /* odd length: every ISA runs a tail */
 
@@ -94,40 +95,6 @@ static int child(void)
     return 0;
 }
 
-/* Run `self --child` with BUMPGRAD_ISA=isa; its output line goes to `line`. */
-static int run_child(const char *self, const char *isa, char *line, size_t sz)
-{
-    int fd[2];
-    if (pipe(fd) != 0)
-        return -1;
-    fflush(stdout); /* or the child would inherit and re-emit buffered output */
-    pid_t pid = fork();
-    if (pid < 0)
-        return -1;
-    if (pid == 0) {
-        close(fd[0]);
-        dup2(fd[1], 1);
-        setenv("BUMPGRAD_ISA", isa, 1);
-        execl(self, self, "--child", (char *)NULL);
-        /* exec fails under qemu-user without binfmt_misc (the cross test): the
-         * forked copy has not touched the library's ISA state either (the
-         * parent makes no batch call), so it reads BUMPGRAD_ISA afresh. */
-        int rc = child();
-        fflush(stdout);
-        _exit(rc);
-    }
-    close(fd[1]);
-    size_t got = 0;
-    ssize_t r;
-    while (got + 1 < sz && (r = read(fd[0], line + got, sz - 1 - got)) > 0)
-        got += (size_t)r;
-    line[got] = 0;
-    close(fd[0]);
-    int st;
-    waitpid(pid, &st, 0);
-    return WIFEXITED(st) && WEXITSTATUS(st) == 0 ? 0 : -1;
-}
-
 int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "--child") == 0)
@@ -135,7 +102,8 @@ int main(int argc, char **argv)
     static const char *const names[] = {"scalar", "sse2", "avx2", "avx512", "neon"};
     bg_isa best = bg_isa_best();
     char ref[1024], got[1024];
-    if (run_child(argv[0], "scalar", ref, sizeof ref) != 0 || strncmp(ref, "scalar ", 7) != 0) {
+    if (run_child(argv[0], "scalar", ref, sizeof ref, child) != 0 ||
+        strncmp(ref, "scalar ", 7) != 0) {
         fprintf(stderr, "FAIL: scalar run: %s\n", ref);
         return 1;
     }
@@ -148,7 +116,7 @@ int main(int argc, char **argv)
         if (!supported)
             continue;
         runs++;
-        if (run_child(argv[0], names[i], got, sizeof got) != 0) {
+        if (run_child(argv[0], names[i], got, sizeof got, child) != 0) {
             fprintf(stderr, "FAIL: child for %s failed\n", names[i]);
             fails++;
             continue;

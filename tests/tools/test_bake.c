@@ -6,7 +6,6 @@
  * normal map, the framework's derivative ratios, the band test over the whole
  * box), never from files saved by an earlier run. */
 #define _GNU_SOURCE /* mkdtemp */
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,42 +14,7 @@
 #include "bake/bake.h"
 #include "bumpgrad/image.h"
 #include "mesh/mesh_tool.h"
-
-static int failures;
-#define CHECK(cond, ...)                                  \
-    do {                                                  \
-        if (!(cond)) {                                    \
-            failures++;                                   \
-            printf("  FAIL %s:%d: ", __FILE__, __LINE__); \
-            printf(__VA_ARGS__);                          \
-            printf("\n");                                 \
-        }                                                 \
-    } while (0)
-
-static char dir[4096];
-
-static const char *path_in(const char *name)
-{
-    static char buf[8][4200];
-    static int slot;
-    slot = (slot + 1) % 8;
-    snprintf(buf[slot], sizeof buf[slot], "%s/%s", dir, name);
-    return buf[slot];
-}
-
-/* Entries of the scratch folder whose name contains ".tmp". */
-static int temp_leftovers(void)
-{
-    DIR *d = opendir(dir);
-    int n = 0;
-    struct dirent *e;
-    while (d && (e = readdir(d)))
-        if (strstr(e->d_name, ".tmp"))
-            n++;
-    if (d)
-        closedir(d);
-    return n;
-}
+#include "scratch.h"
 
 static int is_bad_input(bg_status s)
 {
@@ -362,11 +326,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: test_bake heightmap|volume|mesh SCRATCH_DIR\n");
         return 2;
     }
-    snprintf(dir, sizeof dir, "%s/test_bake_%s_XXXXXX", argv[2], argv[1]);
-    if (!mkdtemp(dir)) {
-        perror("mkdtemp");
+    if (!scratch_create(argv[2], "test_bake", argv[1]))
         return 1;
-    }
     if (strcmp(argv[1], "heightmap") == 0)
         test_heightmap();
     else if (strcmp(argv[1], "volume") == 0)
@@ -376,5 +337,7 @@ int main(int argc, char **argv)
     else
         return 2;
     printf("%s: %d failure(s)\n", argv[1], failures);
+    if (!failures)
+        scratch_remove();
     return failures ? 1 : 0;
 }

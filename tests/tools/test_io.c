@@ -5,7 +5,6 @@
  * exact linear fields, Perlin noise through the core library's analytic
  * gradient), never from files saved by an earlier run. */
 #define _GNU_SOURCE /* mkdtemp */
-#include <dirent.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -16,43 +15,7 @@
 #include "bumpgrad.h"
 #include "bumpgrad/image.h"
 #include "bumpgrad/volume.h"
-
-static int failures;
-#define CHECK(cond, ...)                                  \
-    do {                                                  \
-        if (!(cond)) {                                    \
-            failures++;                                   \
-            printf("  FAIL %s:%d: ", __FILE__, __LINE__); \
-            printf(__VA_ARGS__);                          \
-            printf("\n");                                 \
-        }                                                 \
-    } while (0)
-
-static char dir[4096];
-
-static const char *path_in(const char *name)
-{
-    static char buf[8][4200];
-    static int slot;
-    slot = (slot + 1) % 8;
-    snprintf(buf[slot], sizeof buf[slot], "%s/%s", dir, name);
-    return buf[slot];
-}
-
-/* Count entries of the scratch folder whose name contains ".tmp": a failed
- * write must not leave its temporary file behind. */
-static int temp_leftovers(void)
-{
-    DIR *d = opendir(dir);
-    int n = 0;
-    struct dirent *e;
-    while (d && (e = readdir(d)))
-        if (strstr(e->d_name, ".tmp"))
-            n++;
-    if (d)
-        closedir(d);
-    return n;
-}
+#include "scratch.h"
 
 static long file_size(const char *p)
 {
@@ -504,11 +467,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: test_io {image|volume|errors} SCRATCH_PARENT\n");
         return 2;
     }
-    snprintf(dir, sizeof dir, "%s/test_io_%s_XXXXXX", argv[2], argv[1]);
-    if (!mkdtemp(dir)) {
-        perror(dir);
+    if (!scratch_create(argv[2], "test_io", argv[1]))
         return 2;
-    }
     if (strcmp(argv[1], "image") == 0)
         test_image();
     else if (strcmp(argv[1], "volume") == 0)
@@ -518,12 +478,7 @@ int main(int argc, char **argv)
     else
         return 2;
     printf("test_io %s: %s\n", argv[1], failures ? "FAILED" : "all checks passed");
-    if (!failures) {
-        /* Leave the scratch files of a failure for inspection. */
-        char cmd[4200];
-        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-        if (system(cmd) != 0)
-            printf("  note: could not remove %s\n", dir);
-    }
+    if (!failures)
+        scratch_remove();
     return failures ? 1 : 0;
 }

@@ -60,38 +60,88 @@ static const double pow10_exact[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6, 
                                        1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                        1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
-/* Scan a decimal at p (before end): the end of its text and, in *out, its
- * value if the fast path applies and is exact; NULL to fall back. */
-static const char *scan_decimal(const char *p, const char *end, double *out)
+/* Powers of ten of one digit-accumulator step (10^0..10^8). */
+static const uint64_t pow10_u64[9] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000,
+                                      100000000};
+
+/* Bytes that must be readable past the end of any text the fast path scans
+ * (the eight-byte loads below). The scanned text must end with a byte that
+ * cannot continue a number (NUL, ',', a blank): the scanner then never looks
+ * at the bytes of another field, and needs no end pointer in its loops. */
+#define SCAN_PAD 8
+
+/* The decimal digits at p appended to *w (w = 10 w + digit each); returns the
+ * number of digits. Eight bytes at a time (little-endian SWAR, after Lemire's
+ * fast_float parse_eight_digits_unrolled): subtracting '0' from every byte
+ * leaves 0..9 exactly in the digit bytes, and the first byte that is not a
+ * digit ends the run; a borrow or carry out of it only reaches the bytes after
+ * it, which are dropped. *w wraps for more than 19 digits: the caller rejects
+ * those. */
+static inline __attribute__((always_inline)) int scan_digits(const char **pp, uint64_t *wp)
 {
-    int neg = 0;
-    if (p < end && (*p == '-' || *p == '+'))
-        neg = *p == '-', p++;
+    const char *p = *pp, *p0 = p;
+    uint64_t w = *wp;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    for (;;) {
+        uint64_t v;
+        memcpy(&v, p, 8);
+        v -= UINT64_C(0x3030303030303030);
+        uint64_t bad = (v | (v + UINT64_C(0x0606060606060606))) & UINT64_C(0xF0F0F0F0F0F0F0F0);
+        int k = bad ? __builtin_ctzll(bad) >> 3 : 8;
+        if (k == 0)
+            break;
+        if (k < 8)
+            v <<= 8 * (8 - k); /* the k digits on top, zeros (leading zeros) below */
+        /* First byte = most significant digit: pairs, then quads, then the eight. */
+        v = v * 10 + (v >> 8);
+        v = (((v & UINT64_C(0x000000FF000000FF)) * (100 + (UINT64_C(1000000) << 32))) +
+             (((v >> 16) & UINT64_C(0x000000FF000000FF)) * (1 + (UINT64_C(10000) << 32)))) >>
+            32;
+        w = w * pow10_u64[k] + v;
+        p += k;
+        if (k < 8)
+            break;
+    }
+#else
+    unsigned dig;
+    while ((dig = (unsigned)(*p - '0')) < 10)
+        w = w * 10 + dig, p++;
+#endif
+    *pp = p, *wp = w;
+    return (int)(p - p0);
+}
+
+/* Scan a decimal at p (see SCAN_PAD for what must follow it): the end of its
+ * text and, in *out, its value if the fast path applies and is exact; NULL to
+ * fall back. */
+static inline __attribute__((always_inline)) const char *scan_decimal(const char *p, double *out)
+{
+    int neg = *p == '-';
+    p += neg | (*p == '+'); /* no branch on the sign (random in a point table) */
     uint64_t w = 0;
     int exp10 = 0;
-    const char *d0 = p;
     unsigned dig;
-    while (p < end && (dig = (unsigned)(*p - '0')) < 10)
+    /* The integer part is short in a point table ("-13.4567891"): byte by byte. */
+    const char *d0 = p;
+    while ((dig = (unsigned)(*p - '0')) < 10)
         w = w * 10 + dig, p++;
     int digits = (int)(p - d0);
-    if (p < end && *p == '.') {
-        const char *f0 = ++p;
-        while (p < end && (dig = (unsigned)(*p - '0')) < 10)
-            w = w * 10 + dig, p++;
-        exp10 = -(int)(p - f0);
+    if (*p == '.') {
+        p++;
+        exp10 = -scan_digits(&p, &w);
         digits -= exp10;
     }
     /* 19 digits always fit in 64 bits (leading zeros included: a rare case
      * with more digits simply takes strtod). */
     if (digits == 0 || digits > 19)
         return NULL;
-    if (p < end && (*p == 'e' || *p == 'E')) {
+    if ((*p | 0x20) == 'e') {
         p++;
         int eneg = 0, ev = 0;
-        if (p < end && (*p == '-' || *p == '+'))
+        if (*p == '-' || *p == '+')
             eneg = *p == '-', p++;
         const char *e0 = p;
-        while (p < end && (dig = (unsigned)(*p - '0')) < 10 && ev < 100000)
+        while ((dig = (unsigned)(*p - '0')) < 10 && ev < 100000)
             ev = ev * 10 + (int)dig, p++;
         if (p == e0 || ev >= 100000)
             return NULL;
@@ -116,15 +166,20 @@ static const char *scan_decimal(const char *p, const char *end, double *out)
 }
 
 /* Parse s[0..n) (no blanks around) as a decimal; 1 with *out if the fast path
- * applies and is exact, 0 to fall back. */
+ * applies and is exact, 0 to fall back. s[0..n) need not be terminated: it is
+ * scanned from a padded copy (a longer field is no plain decimal anyway). */
 static int fast_decimal(const char *s, size_t n, double *out)
 {
-    return scan_decimal(s, s + n, out) == s + n;
+    char t[64 + SCAN_PAD] = {0};
+    if (n >= 64)
+        return 0;
+    memcpy(t, s, n);
+    return scan_decimal(t, out) == t + n;
 }
 
 /* d is the double of a decimal; 1 with *out if (float)d is the correctly
  * rounded float of that decimal. */
-static int exact_float(double d, float *out)
+static inline int exact_float(double d, float *out)
 {
     double a = fabs(d);
     if (a != 0 && (a < 0x1p-126 || a > 0x1p127)) /* subnormal or near FLT_MAX: strtof */
@@ -143,7 +198,7 @@ static int exact_float(double d, float *out)
 /* The float of the decimal s[0..n): 1 if exact, 0 to fall back to strtof. */
 static int fast_float(const char *s, size_t n, float *out)
 {
-    double d;
+    double d = 0;
     return fast_decimal(s, n, &d) && exact_float(d, out);
 }
 
@@ -188,7 +243,9 @@ bg_status bgt_csv_open(bgt_csv *c, bgt_err *err, const char *path, int allow_non
                 c->size = (size_t)st.st_size;
         }
     }
-    c->buf = malloc(BUF_CAP + 1);
+    /* +1: the NUL after a line; SCAN_PAD: the fast path's eight-byte loads.
+     * Zeroed, so that those loads never see undefined bytes. */
+    c->buf = calloc(BUF_CAP + 1 + SCAN_PAD, 1);
     if (!c->buf) {
         bgt_csv_close(c);
         return bgt_fail(c->err, BG_ERR_OUT_OF_MEMORY, "out of memory");
@@ -266,27 +323,37 @@ static int line_is_blank(const char *s, size_t n)
     return 1;
 }
 
-bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
+/* The header line of both header readers: the wanted names joined by ',' into
+ * want (for messages), the line in *s, *n and in *pos its first byte after a
+ * UTF-8 byte-order mark; an empty input is an error naming the header. */
+static bg_status header_line(bgt_csv *c, const char *const *names, int count, char want[128],
+                             char **s, size_t *n, size_t *pos)
 {
-    char *s;
-    size_t n;
-    char want[128] = "", got[64];
+    want[0] = '\0';
     for (int k = 0; k < count; k++) {
-        strncat(want, names[k], sizeof want - strlen(want) - 2);
+        strncat(want, names[k], 128 - strlen(want) - 2);
         if (k + 1 < count)
             strcat(want, ",");
     }
-    int r = next_line(c, &s, &n);
+    int r = next_line(c, s, n);
     if (r < 0)
         return (bg_status)-r;
     if (r == 0) {
         c->line = 1;
         return row_error(c, 1, "empty input, expected the header \"%s\"", want);
     }
-    size_t pos = 0;
     /* A byte-order mark is what spreadsheet exports put first; it is not data. */
-    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
-        pos = 3;
+    *pos = *n >= 3 && memcmp(*s, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+    return BG_OK;
+}
+
+bg_status bgt_csv_header(bgt_csv *c, const char *const *names, int count)
+{
+    char *s, want[128], got[64];
+    size_t n, pos;
+    bg_status st = header_line(c, names, count, want, &s, &n, &pos);
+    if (st)
+        return st;
     for (int k = 0; k < count; k++) {
         while (pos < n && is_blank_char(s[pos]))
             pos++;
@@ -339,25 +406,12 @@ static int same_name(const char *s, size_t n, const char *name)
 
 bg_status bgt_csv_header_map(bgt_csv *c, const char *const *names, int count)
 {
-    char *s;
-    size_t n;
-    char want[128] = "", got[64];
-    for (int k = 0; k < count; k++) {
-        strncat(want, names[k], sizeof want - strlen(want) - 2);
-        if (k + 1 < count)
-            strcat(want, ",");
-    }
-    int r = next_line(c, &s, &n);
-    if (r < 0)
-        return (bg_status)-r;
-    if (r == 0) {
-        c->line = 1;
-        return row_error(c, 1, "empty input, expected the header \"%s\"", want);
-    }
-    size_t pos = 0;
-    if (n >= 3 && memcmp(s, "\xEF\xBB\xBF", 3) == 0)
-        pos = 3;
     int have[BGT_CSV_MAX_COLS] = {0}, found = 0, identity = 1;
+    char *s, want[128], got[64];
+    size_t n, pos;
+    bg_status st = header_line(c, names, count, want, &s, &n, &pos);
+    if (st != BG_OK)
+        return st;
     c->ncols = 0;
     c->id_header[0] = c->extra_header[0] = '\0';
     for (;;) {
@@ -499,39 +553,74 @@ static bg_status parse_row(bgt_csv *c, char *s, size_t n, size_t pos0, int count
     return 0;
 }
 
-/* A whole row of plain decimals through the fast path: 1 if every field was
+/* The `count` fields of a row of plain decimals at p (a NUL-terminated line,
+ * SCAN_PAD readable bytes after it), stored in row `row` of dcols (double) or
+ * fcols (float): the end of the row's text (after the last field and its
+ * blanks), or NULL if a field needs the careful path. A row given up halfway
+ * may have stored some fields: the careful path then stores the same row
+ * again (or fails). */
+static inline __attribute__((always_inline)) const char *
+fast_fields(const char *p, int count, int dbl, float *const *fcols, double *const *dcols,
+            size_t row)
+{
+    for (int k = 0; k < count; k++) {
+        double dv;
+        while (is_blank_char(*p))
+            p++;
+        p = scan_decimal(p, &dv);
+        if (!p)
+            return NULL;
+        if (dbl)
+            dcols[k][row] = dv;
+        else if (!exact_float(dv, &fcols[k][row]))
+            return NULL;
+        while (is_blank_char(*p))
+            p++;
+        if (k + 1 < count) {
+            if (*p != ',')
+                return NULL;
+            p++;
+        }
+    }
+    return p;
+}
+
+/* A whole line of plain decimals through the fast path: 1 if every field was
  * taken (values stored), 0 to parse the row again the careful way (which also
  * words the errors). */
 static int fast_row(const char *s, size_t n, int count, int dbl, float *const *fcols,
                     double *const *dcols, size_t row)
 {
-    const char *p = s, *end = s + n;
-    double dv[16];
-    float fv[16];
-    if (count > 16)
+    return fast_fields(s, count, dbl, fcols, dcols, row) == s + n;
+}
+
+/* The next row straight from the read buffer, without looking for its line
+ * end first: 1 if a complete line of plain decimals ("\n" or "\r\n" after it,
+ * within the line length limit) was taken and consumed, 0 to take the next
+ * line the general way (next_line), for instance at the end of the buffer. */
+static int fast_buffered_row(bgt_csv *c, int count, int dbl, float *const *fcols,
+                             double *const *dcols, size_t row)
+{
+    char *p = c->buf + c->start, *end = c->buf + c->end;
+    const char *q;
+    *end = '\0'; /* the scan stops here at the latest (buf has the spare bytes) */
+    /* Constant arguments for the common tables (eval: 3 columns, perturb: 6)
+     * let the compiler unroll the fields and drop the precision tests. */
+    if (count == 3)
+        q = dbl ? fast_fields(p, 3, 1, fcols, dcols, row) : fast_fields(p, 3, 0, fcols, dcols, row);
+    else if (count == 6)
+        q = dbl ? fast_fields(p, 6, 1, fcols, dcols, row) : fast_fields(p, 6, 0, fcols, dcols, row);
+    else
+        q = fast_fields(p, count, dbl, fcols, dcols, row);
+    if (!q || q >= end)
         return 0;
-    for (int k = 0; k < count; k++) {
-        while (p < end && is_blank_char(*p))
-            p++;
-        p = scan_decimal(p, end, &dv[k]);
-        if (!p || (!dbl && !exact_float(dv[k], &fv[k])))
-            return 0;
-        while (p < end && is_blank_char(*p))
-            p++;
-        if (k + 1 < count) {
-            if (p == end || *p != ',')
-                return 0;
-            p++;
-        } else if (p != end) {
-            return 0;
-        }
-    }
-    for (int k = 0; k < count; k++) {
-        if (dbl)
-            dcols[k][row] = dv[k];
-        else
-            fcols[k][row] = fv[k];
-    }
+    size_t n = (size_t)(q - p); /* the line without its "\n" or "\r\n", as next_line */
+    if (*q == '\r')
+        q++;
+    if (q >= end || *q != '\n' || n > BGT_CSV_MAX_LINE)
+        return 0;
+    c->start = (size_t)(q + 1 - c->buf);
+    c->line++;
     return 1;
 }
 
@@ -610,9 +699,9 @@ static bg_status parse_mapped(bgt_csv *c, char *s, size_t n, int dbl, float *con
             vb++;
         while (ve > vb && is_blank_char(s[ve - 1]))
             ve--;
-        double dv;
+        double dv = 0;
         float fv;
-        if (r >= 0 && bgt_csv_fast_path && scan_decimal(s + vb, s + ve, &dv) == s + ve &&
+        if (r >= 0 && bgt_csv_fast_path && scan_decimal(s + vb, &dv) == s + ve &&
             (dbl || exact_float(dv, &fv))) {
             if (dbl)
                 dcols[r][row] = dv;
@@ -673,7 +762,12 @@ static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, 
         c->offs = o;
         c->offs_cap = max;
     }
+    const int fast = bgt_csv_fast_path && !c->mapped;
     while (got < max) {
+        if (fast && !c->blank && fast_buffered_row(c, count, dbl, fcols, dcols, got)) {
+            got++;
+            continue;
+        }
         char *s;
         size_t n;
         int r = next_line(c, &s, &n);
@@ -681,8 +775,7 @@ static bg_status read_rows(bgt_csv *c, int count, int dbl, float *const *fcols, 
             return (bg_status)-r;
         if (r == 0)
             break;
-        if (bgt_csv_fast_path && !c->blank && !c->mapped &&
-            fast_row(s, n, count, dbl, fcols, dcols, got)) {
+        if (fast && !c->blank && fast_row(s, n, count, dbl, fcols, dcols, got)) {
             got++;
             continue;
         }

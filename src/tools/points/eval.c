@@ -2,14 +2,9 @@
 /* bgt_eval_run (points.h): noise / fBm / turbulence value and gradient at
  * every row of a CSV table, float or double, analytic or central. */
 #include "points.h"
-#include <errno.h>
-#include <stdlib.h>
-#include <string.h>
 #include "common/csv.h"
 #include "common/npy.h"
 #include "table.h"
-#include "common/parallel.h"
-#include "common/safe_file.h"
 
 #define EVAL_BLOCK 8192
 #define EVAL_CHUNK 1024
@@ -53,95 +48,56 @@ static void eval_chunk(void *ctx, size_t b, size_t e, int worker)
     }
 }
 
+static void eval_bind(void *ctx, void *mem)
+{
+    eval_job *j = ctx;
+    size_t elem = j->dbl ? sizeof(double) : sizeof(float);
+    for (int k = 0; k < 7; k++) {
+        j->fc[k] = (float *)(void *)((char *)mem + (size_t)k * EVAL_BLOCK * elem);
+        j->dc[k] = (double *)(void *)((char *)mem + (size_t)k * EVAL_BLOCK * elem);
+    }
+}
+
+static void eval_write(void *ctx, FILE *fp, const bgt_csv *inp, bgt_npy_out *npy, size_t rows)
+{
+    eval_job *j = ctx;
+    if (npy) {
+        bgt_npy_write(npy, (const float *const *)j->fc, (const double *const *)j->dc, rows);
+    } else if (j->dbl) {
+        double **c = j->dc;
+        for (size_t r = 0; r < rows; r++) {
+            const char *x;
+            size_t xl;
+            bgt_csv_write_row_prefix(fp, inp, r, &x, &xl);
+            fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", c[0][r], c[1][r], c[2][r],
+                    c[3][r], c[4][r], c[5][r], c[6][r]);
+            bgt_csv_write_row_suffix(fp, inp, x, xl);
+        }
+    } else {
+        float **c = j->fc;
+        for (size_t r = 0; r < rows; r++) {
+            const char *x;
+            size_t xl;
+            bgt_csv_write_row_prefix(fp, inp, r, &x, &xl);
+            fprintf(fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", (double)c[0][r], (double)c[1][r],
+                    (double)c[2][r], (double)c[3][r], (double)c[4][r], (double)c[5][r],
+                    (double)c[6][r]);
+            bgt_csv_write_row_suffix(fp, inp, x, xl);
+        }
+    }
+}
+
 bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
 {
-    bgt_table_in tin;
-    bg_status rc;
-    if ((rc = bgt_table_open(&tin, e, o->input, o->allow_nonfinite, eval_header, 3)))
-        return rc;
-    const bgt_csv *inp = &tin.csv;
-    const int npy_out = bgt_npy_path(o->output);
-
-    const int dbl = o->dbl;
-    eval_job job = {.f = &o->fractal, .central = o->central, .dbl = dbl, .step = o->step};
-    size_t elem = dbl ? sizeof(double) : sizeof(float);
-    char *mem = malloc(7 * EVAL_BLOCK * elem);
-    if (!mem) {
-        bgt_table_close(&tin);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    for (int k = 0; k < 7; k++) {
-        job.fc[k] = (float *)(void *)(mem + (size_t)k * EVAL_BLOCK * elem);
-        job.dc[k] = (double *)(void *)(mem + (size_t)k * EVAL_BLOCK * elem);
-    }
-
-    bgt_safe_file out;
-    if ((rc = bgt_safe_open(&out, o->output, e))) {
-        free(mem);
-        bgt_table_close(&tin);
-        return rc;
-    }
-    static char obuf[1 << 16];
-    setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    bgt_npy_out nout;
-    if (npy_out)
-        bgt_npy_begin(&nout, out.fp, dbl, 7, e);
-    else
-        bgt_csv_write_header(out.fp, inp, "x,y,z,value,dx,dy,dz");
-
-    bgt_progress_begin(o->progress, "eval", bgt_table_size(&tin));
-    size_t total_rows = 0;
-    for (;;) {
-        size_t rows;
-        rc = bgt_table_read(&tin, 3, dbl, job.fc, job.dc, EVAL_BLOCK, &rows);
-        if (rc || rows == 0)
-            break;
-        bgt_parallel_for(rows, EVAL_CHUNK, o->threads, eval_chunk, &job);
-        if (npy_out) {
-            bgt_npy_write(&nout, (const float *const *)job.fc, (const double *const *)job.dc,
-                          rows);
-        } else if (dbl) {
-            double **c = job.dc;
-            for (size_t r = 0; r < rows; r++) {
-                const char *x;
-                size_t xl;
-                bgt_csv_write_row_prefix(out.fp, inp, r, &x, &xl);
-                fprintf(out.fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", c[0][r], c[1][r],
-                        c[2][r], c[3][r], c[4][r], c[5][r], c[6][r]);
-                bgt_csv_write_row_suffix(out.fp, inp, x, xl);
-            }
-        } else {
-            float **c = job.fc;
-            for (size_t r = 0; r < rows; r++) {
-                const char *x;
-                size_t xl;
-                bgt_csv_write_row_prefix(out.fp, inp, r, &x, &xl);
-                fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", (double)c[0][r],
-                        (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
-                        (double)c[5][r], (double)c[6][r]);
-                bgt_csv_write_row_suffix(out.fp, inp, x, xl);
-            }
-        }
-        if (ferror(out.fp)) {
-            rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
-                          strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
-            break;
-        }
-        total_rows += rows;
-        if (o->stats)
-            o->stats->rows = total_rows;
-        bgt_progress_update(o->progress, bgt_table_consumed(&tin));
-    }
-    bgt_progress_end(o->progress);
-    bgt_table_close(&tin);
-    if (!rc && npy_out)
-        rc = bgt_npy_finish(&nout, o->output, e);
-    if (rc) {
-        bgt_safe_abort(&out);
-        free(mem);
-        return rc;
-    }
-    rc = bgt_safe_commit(&out, e);
-    free(mem);
-    return rc;
+    eval_job job = {.f = &o->fractal, .central = o->central, .dbl = o->dbl, .step = o->step};
+    bgt_table_pass p = {
+        .label = "eval", .input = o->input, .output = o->output,
+        .allow_nonfinite = o->allow_nonfinite, .names = eval_header, .count = 3, .dbl = o->dbl,
+        .npy_cols = 7, .csv_header = "x,y,z,value,dx,dy,dz", .block = EVAL_BLOCK,
+        .chunk = EVAL_CHUNK, .threads = o->threads,
+        .mem_bytes = 7 * EVAL_BLOCK * (o->dbl ? sizeof(double) : sizeof(float)),
+        .bind = eval_bind, .fcols = job.fc, .dcols = job.dc, .chunk_fn = eval_chunk,
+        .write = eval_write, .ctx = &job, .progress = o->progress,
+        .rows = o->stats ? &o->stats->rows : NULL};
+    return bgt_table_run(&p, e);
 }

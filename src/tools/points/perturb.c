@@ -4,14 +4,9 @@
  * kernel (Mikkelsen 2010, eq. 2 and 4) or Perlin's additive rule. The `inward`
  * column marks rows whose bumped normal faces away from the surface normal. */
 #include "points.h"
-#include <errno.h>
-#include <stdlib.h>
-#include <string.h>
 #include "common/csv.h"
 #include "common/npy.h"
 #include "table.h"
-#include "common/parallel.h"
-#include "common/safe_file.h"
 #if BG_HAVE_TOOLS
 #include "bumpgrad/volume.h"
 #endif
@@ -25,7 +20,10 @@ static const char *const perturb_header[] = {"x", "y", "z", "nx", "ny", "nz"};
 typedef struct perturb_job {
     const bgt_height *h;
     bg_perturb_method method;
-    float *c[10]; /* x y z nx ny nz height px py pz */
+    float *c[11]; /* x y z nx ny nz height px py pz, and inward (for .npy) */
+    int grid;      /* a VDB height: count the rows inside box (min xyz, max xyz) */
+    double box[6];
+    bgt_points_stats *stats;
 } perturb_job;
 
 static void perturb_chunk(void *ctx, size_t b, size_t e, int worker)
@@ -45,54 +43,63 @@ static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
     return r2 == 0 || !(d > 0);
 }
 
+static void perturb_bind(void *ctx, void *mem)
+{
+    perturb_job *j = ctx;
+    for (int k = 0; k < 11; k++)
+        j->c[k] = (float *)mem + (size_t)k * PERTURB_BLOCK;
+}
+
+static void perturb_write(void *ctx, FILE *fp, const bgt_csv *inp, bgt_npy_out *npy, size_t rows)
+{
+    perturb_job *j = ctx;
+    float **c = j->c;
+    const double *box = j->box;
+    size_t block_inward = 0, block_in_grid = 0;
+    if (j->grid)
+        for (size_t r = 0; r < rows; r++)
+            block_in_grid += c[0][r] >= box[0] && c[0][r] <= box[3] && c[1][r] >= box[1] &&
+                             c[1][r] <= box[4] && c[2][r] >= box[2] && c[2][r] <= box[5];
+    for (size_t r = 0; r < rows && npy; r++) {
+        int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+        block_inward += (size_t)inward;
+        c[10][r] = (float)inward;
+    }
+    if (npy)
+        bgt_npy_write(npy, (const float *const *)c, NULL, rows);
+    for (size_t r = 0; r < rows && !npy; r++) {
+        const char *x;
+        size_t xl;
+        bgt_csv_write_row_prefix(fp, inp, r, &x, &xl);
+        int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+        block_inward += (size_t)inward;
+        fprintf(fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d", (double)c[0][r],
+                (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
+                (double)c[5][r], (double)c[6][r], (double)c[7][r], (double)c[8][r],
+                (double)c[9][r], inward);
+        bgt_csv_write_row_suffix(fp, inp, x, xl);
+    }
+    if (j->stats) {
+        j->stats->inward += block_inward;
+        j->stats->in_grid += block_in_grid;
+    }
+}
+
 bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 {
-    bgt_table_in tin;
-    bg_status rc;
-    if ((rc = bgt_table_open(&tin, e, o->input, o->allow_nonfinite, perturb_header, 6)))
-        return rc;
-    const bgt_csv *inp = &tin.csv;
-    const int npy_out = bgt_npy_path(o->output);
-    perturb_job job = {.h = o->height, .method = o->method};
-    float *mem = malloc(11 * PERTURB_BLOCK * sizeof(float));
-    if (!mem) {
-        bgt_table_close(&tin);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    for (int k = 0; k < 10; k++)
-        job.c[k] = mem + (size_t)k * PERTURB_BLOCK;
-    float *inward_col = mem + (size_t)10 * PERTURB_BLOCK; /* for .npy output */
-
-    bgt_safe_file out;
-    if ((rc = bgt_safe_open(&out, o->output, e))) {
-        free(mem);
-        bgt_table_close(&tin);
-        return rc;
-    }
-    static char obuf[1 << 16];
-    setvbuf(out.fp, obuf, _IOFBF, sizeof obuf);
-    bgt_npy_out nout;
-    if (npy_out)
-        bgt_npy_begin(&nout, out.fp, 0, 11, e);
-    else
-        bgt_csv_write_header(out.fp, inp, "x,y,z,nx,ny,nz,height,px,py,pz,inward");
-
-    bgt_progress_begin(o->progress, "perturb", bgt_table_size(&tin));
-    size_t total_rows = 0;
+    perturb_job job = {.h = o->height, .method = o->method, .stats = o->stats};
     /* A VDB height is zero (and flat) outside its active voxels: count the
      * points inside their world box, one voxel of margin (the stencil's reach),
      * so that a table that misses the grid entirely can be reported. */
-    int grid = 0;
-    double box[6] = {0};
 #if BG_HAVE_TOOLS
     if (o->height->grid) {
         bg_vdb_height_info info;
         bg_vdb_height_get_info((const bg_vdb_height *)o->height->grid, &info);
         for (int k = 0; k < 3; k++) {
-            box[k] = info.world_min[k] - info.voxel_size[k];
-            box[3 + k] = info.world_max[k] + info.voxel_size[k];
+            job.box[k] = info.world_min[k] - info.voxel_size[k];
+            job.box[3 + k] = info.world_max[k] + info.voxel_size[k];
         }
-        grid = 1;
+        job.grid = 1;
         if (o->stats) {
             o->stats->grid = 1;
             for (int k = 0; k < 3; k++) {
@@ -102,63 +109,13 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
         }
     }
 #endif
-    for (;;) {
-        size_t rows;
-        rc = bgt_table_read(&tin, 6, 0, job.c, NULL, PERTURB_BLOCK, &rows);
-        if (rc || rows == 0)
-            break;
-        bgt_parallel_for(rows, PERTURB_CHUNK, o->threads, perturb_chunk, &job);
-        float **c = job.c;
-        size_t block_inward = 0, block_in_grid = 0;
-        if (grid)
-            for (size_t r = 0; r < rows; r++)
-                block_in_grid += c[0][r] >= box[0] && c[0][r] <= box[3] && c[1][r] >= box[1] &&
-                                 c[1][r] <= box[4] && c[2][r] >= box[2] && c[2][r] <= box[5];
-        for (size_t r = 0; r < rows && npy_out; r++) {
-            int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
-            block_inward += (size_t)inward;
-            inward_col[r] = (float)inward;
-        }
-        if (npy_out) {
-            const float *cols[11];
-            for (int k = 0; k < 10; k++)
-                cols[k] = c[k];
-            cols[10] = inward_col;
-            bgt_npy_write(&nout, cols, NULL, rows);
-        }
-        for (size_t r = 0; r < rows && !npy_out; r++) {
-            const char *x;
-            size_t xl;
-            bgt_csv_write_row_prefix(out.fp, inp, r, &x, &xl);
-            int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
-            block_inward += (size_t)inward;
-            fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d",
-                    (double)c[0][r], (double)c[1][r], (double)c[2][r], (double)c[3][r],
-                    (double)c[4][r], (double)c[5][r], (double)c[6][r], (double)c[7][r],
-                    (double)c[8][r], (double)c[9][r], inward);
-            bgt_csv_write_row_suffix(out.fp, inp, x, xl);
-        }
-        if (ferror(out.fp)) {
-            rc = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s",
-                          strcmp(o->output, "-") ? o->output : "standard output", strerror(errno));
-            break;
-        }
-        total_rows += rows;
-        if (o->stats) {
-            o->stats->rows = total_rows;
-            o->stats->inward += block_inward;
-            o->stats->in_grid += block_in_grid;
-        }
-        bgt_progress_update(o->progress, bgt_table_consumed(&tin));
-    }
-    bgt_progress_end(o->progress);
-    bgt_table_close(&tin);
-    free(mem);
-    if (!rc && npy_out)
-        rc = bgt_npy_finish(&nout, o->output, e);
-    if (rc) {
-        bgt_safe_abort(&out);
-        return rc;
-    }
-    return bgt_safe_commit(&out, e);
+    bgt_table_pass p = {
+        .label = "perturb", .input = o->input, .output = o->output,
+        .allow_nonfinite = o->allow_nonfinite, .names = perturb_header, .count = 6, .dbl = 0,
+        .npy_cols = 11, .csv_header = "x,y,z,nx,ny,nz,height,px,py,pz,inward",
+        .block = PERTURB_BLOCK, .chunk = PERTURB_CHUNK, .threads = o->threads,
+        .mem_bytes = 11 * PERTURB_BLOCK * sizeof(float), .bind = perturb_bind, .fcols = job.c,
+        .dcols = NULL, .chunk_fn = perturb_chunk, .write = perturb_write, .ctx = &job,
+        .progress = o->progress, .rows = o->stats ? &o->stats->rows : NULL};
+    return bgt_table_run(&p, e);
 }

@@ -14,6 +14,7 @@
  * stability_sweeps.c and stability_listing1.c. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include "stability.h"
@@ -26,7 +27,8 @@ void st_json_num(st_out *o, const char *key, double v)
 
 bg_status st_oom(st_out *o) { return bgt_fail(o->e, BG_ERR_OUT_OF_MEMORY, "out of memory"); }
 
-FILE *st_csv_begin(st_out *o, const char *name, bgt_safe_file *of, const char *header)
+FILE *st_csv_begin(st_out *o, const char *name, bgt_safe_file *of, const char *header,
+                   const char *md_fmt, ...)
 {
     char *p = study_join(o->dir, name);
     if (!p) {
@@ -38,6 +40,10 @@ FILE *st_csv_begin(st_out *o, const char *name, bgt_safe_file *of, const char *h
     if (s != BG_OK)
         return NULL;
     fprintf(of->fp, "%s\n", header);
+    va_list ap;
+    va_start(ap, md_fmt);
+    vfprintf(o->md, md_fmt, ap);
+    va_end(ap);
     return of->fp;
 }
 

@@ -23,9 +23,15 @@ typedef struct st_out {
 
 /* One number of summary.json. */
 void st_json_num(st_out *o, const char *key, double v);
-/* Opens DIR/name (temp + rename on commit) and writes the header line; NULL
- * with o->e set on failure. */
-FILE *st_csv_begin(st_out *o, const char *name, bgt_safe_file *of, const char *header);
+/* A section of the study: opens DIR/name (temp + rename on commit), writes the
+ * CSV header line, then the section's report text (printf format md_fmt) to
+ * o->md; NULL with o->e set on failure. */
+FILE *st_csv_begin(st_out *o, const char *name, bgt_safe_file *of, const char *header,
+                   const char *md_fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
 /* A gnuplot chart of CSV columns (x column, then y columns), log axes as
  * asked, linked from the report. BG_OK without o->chart. */
 bg_status st_chart(st_out *o, const char *name, const char *csv, const char *title,

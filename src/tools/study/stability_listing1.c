@@ -53,36 +53,48 @@ typedef struct l1_setup {
     double *e; /* n errors */
 } l1_setup;
 
+/* One row of a Listing 1 sweep: the mean error over u->n random pixels of the
+ * plane (seeded with `seed`) with screen derivatives sx, sy; *p99 (if not NULL)
+ * its 99th percentile, *det that of the last pixel. */
+static double l1_sweep(const l1_setup *u, uint64_t seed, const double sx[3], const double sy[3],
+                       double *p99, double *det)
+{
+    uint64_t s = seed;
+    double sum = 0, mx;
+    for (size_t i = 0; i < u->n; i++) {
+        double p[3] = {8 * study_random01(&s), 8 * study_random01(&s), 0};
+        u->e[i] = l1_error(&u->f, u->A, u->F, p, sx, sy, det);
+        sum += u->e[i];
+    }
+    if (p99)
+        study_percentiles(u->e, u->n, 0.99, p99, &mx);
+    return sum / (double)u->n;
+}
+
 static bg_status l1_grazing(st_out *o, const l1_setup *u)
 {
     bgt_safe_file of;
-    FILE *fp = st_csv_begin(o, "listing1_grazing.csv", &of, "view_angle_deg,mean_angle_deg,p99_angle_deg");
-    if (!fp)
-        return o->e->status;
-    fprintf(o->md, "\n## 5. Listing 1 where it fails\n\n"
+    FILE *fp = st_csv_begin(o, "listing1_grazing.csv", &of, "view_angle_deg,mean_angle_deg,p99_angle_deg",
+                   "\n## 5. Listing 1 where it fails\n\n"
                    "Plane z = 0, normal +z, height 0.05 * turbulence(4 p), %zu random pixels. A pixel covers "
                    "1/4096 units head-on; at view angle theta from the normal the footprint along one screen axis "
                    "stretches by 1/cos(theta). Error: angle between Listing 1 (float) and the analytic eq. 4 "
                    "normal (double).\n\n### Grazing angles\n\n| view angle (deg) | mean error (deg) | p99 error (deg) |\n|---|---|---|\n",
             u->n);
+    if (!fp)
+        return o->e->status;
     double err0 = 0, err85 = 0;
     static const double angles[] = {0, 30, 60, 75, 80, 85, 88, 89, 89.5};
     for (size_t k = 0; k < sizeof angles / sizeof angles[0]; k++) {
-        uint64_t s = 5;
-        double c = cos(angles[k] * 3.14159265358979323846 / 180), sum = 0, p99, mx, det;
-        for (size_t i = 0; i < u->n; i++) {
-            double p[3] = {8 * study_random01(&s), 8 * study_random01(&s), 0};
-            double sx[3] = {u->pix / c, 0, 0}, sy[3] = {0, u->pix, 0};
-            u->e[i] = l1_error(&u->f, u->A, u->F, p, sx, sy, &det);
-            sum += u->e[i];
-        }
-        study_percentiles(u->e, u->n, 0.99, &p99, &mx);
-        fprintf(fp, "%g,%.6g,%.6g\n", angles[k], sum / (double)u->n, p99);
-        fprintf(o->md, "| %g | %.3g | %.3g |\n", angles[k], sum / (double)u->n, p99);
+        double c = cos(angles[k] * 3.14159265358979323846 / 180), p99, det;
+        double sx[3] = {u->pix / c, 0, 0}, sy[3] = {0, u->pix, 0};
+        double mean = l1_sweep(u, 5, sx, sy, &p99, &det);
+        fprintf(fp, "%g,%.6g,%.6g\n", angles[k], mean, p99);
+        fprintf(o->md, "| %g | %.3g | %.3g |\n", angles[k], mean, p99);
         if (angles[k] == 0)
-            err0 = sum / (double)u->n;
+            err0 = mean;
         if (angles[k] == 85)
-            err85 = sum / (double)u->n;
+            err85 = mean;
     }
     bg_status rc = bgt_safe_commit(&of, o->e);
     st_json_num(o, "listing1_mean_deg_head_on", err0);
@@ -99,27 +111,23 @@ static bg_status l1_grazing(st_out *o, const l1_setup *u)
  * normal collapses onto the height term. */
 static bg_status l1_det(st_out *o, const l1_setup *u)
 {
-    fprintf(o->md, "\n### det -> 0 (screen derivatives nearly parallel)\n\n"
-                   "sigma_t = pix * (cos a, sin a, 0) with a -> 0, sigma_s = (pix, 0, 0).\n\n"
-                   "| angle between derivatives (deg) | |det| | mean error (deg) |\n|---|---|---|\n");
     bgt_safe_file of;
-    FILE *fd = st_csv_begin(o, "listing1_det.csv", &of, "angle_between_derivatives_deg,abs_det,mean_angle_deg");
+    FILE *fd = st_csv_begin(o, "listing1_det.csv", &of, "angle_between_derivatives_deg,abs_det,mean_angle_deg",
+                            "\n### det -> 0 (screen derivatives nearly parallel)\n\n"
+                            "sigma_t = pix * (cos a, sin a, 0) with a -> 0, sigma_s = (pix, 0, 0).\n\n"
+                            "| angle between derivatives (deg) | |det| | mean error (deg) |\n|---|---|---|\n");
     if (!fd)
         return o->e->status;
     static const double bet[] = {90, 30, 10, 3, 1, 0.3, 0.1, 0.01, 0};
     double err_det0 = 0;
     for (size_t k = 0; k < sizeof bet / sizeof bet[0]; k++) {
-        uint64_t s = 6;
-        double a = bet[k] * 3.14159265358979323846 / 180, sum = 0, det = 0;
-        for (size_t i = 0; i < u->n; i++) {
-            double p[3] = {8 * study_random01(&s), 8 * study_random01(&s), 0};
-            double sx[3] = {u->pix, 0, 0}, sy[3] = {u->pix * cos(a), u->pix * sin(a), 0};
-            sum += l1_error(&u->f, u->A, u->F, p, sx, sy, &det);
-        }
-        fprintf(fd, "%g,%.6g,%.6g\n", bet[k], fabs(det), sum / (double)u->n);
-        fprintf(o->md, "| %g | %.3g | %.3g |\n", bet[k], fabs(det), sum / (double)u->n);
+        double a = bet[k] * 3.14159265358979323846 / 180, det = 0;
+        double sx[3] = {u->pix, 0, 0}, sy[3] = {u->pix * cos(a), u->pix * sin(a), 0};
+        double mean = l1_sweep(u, 6, sx, sy, NULL, &det);
+        fprintf(fd, "%g,%.6g,%.6g\n", bet[k], fabs(det), mean);
+        fprintf(o->md, "| %g | %.3g | %.3g |\n", bet[k], fabs(det), mean);
         if (bet[k] == 0)
-            err_det0 = sum / (double)u->n;
+            err_det0 = mean;
     }
     bg_status rc = bgt_safe_commit(&of, o->e);
     st_json_num(o, "listing1_mean_deg_det0", err_det0);
@@ -138,16 +146,10 @@ static void l1_silhouettes(st_out *o, const l1_setup *u)
                    "| depth jump D | mean error (deg) | p99 error (deg) |\n|---|---|---|\n");
     static const double jumps[] = {0, 0.01, 0.1, 1, 10};
     for (size_t k = 0; k < sizeof jumps / sizeof jumps[0]; k++) {
-        uint64_t s = 7;
-        double sum = 0, p99, mx, det;
-        for (size_t i = 0; i < u->n; i++) {
-            double p[3] = {8 * study_random01(&s), 8 * study_random01(&s), 0};
-            double sx[3] = {u->pix, 0, -jumps[k]}, sy[3] = {0, u->pix, 0};
-            u->e[i] = l1_error(&u->f, u->A, u->F, p, sx, sy, &det);
-            sum += u->e[i];
-        }
-        study_percentiles(u->e, u->n, 0.99, &p99, &mx);
-        fprintf(o->md, "| %g | %.3g | %.3g |\n", jumps[k], sum / (double)u->n, p99);
+        double p99, det;
+        double sx[3] = {u->pix, 0, -jumps[k]}, sy[3] = {0, u->pix, 0};
+        double mean = l1_sweep(u, 7, sx, sy, &p99, &det);
+        fprintf(o->md, "| %g | %.3g | %.3g |\n", jumps[k], mean, p99);
     }
 }
 

@@ -42,17 +42,17 @@ bg_status st_sweep_inward(st_out *o, size_t n)
     for (size_t i = 0; i < n; i++)
         gx[i] *= freq, gy[i] *= freq, gz[i] *= freq;
     bgt_safe_file of;
-    FILE *f = st_csv_begin(o, "inward.csv", &of, "amplitude,additive_inward_fraction,surfgrad_inward_fraction,additive_perlin_inward_fraction");
+    FILE *f = st_csv_begin(o, "inward.csv", &of, "amplitude,additive_inward_fraction,surfgrad_inward_fraction,additive_perlin_inward_fraction",
+                           "\n## 1. Inward normals: additive vs surface gradient\n\n"
+                           "Unit sphere, height = A * noise(2 p), n = p, %zu random points. A normal points inward "
+                           "when dot(n', n) <= 0.\n\n| amplitude | additive inward | Perlin's + sign inward | surfgrad inward |\n|---|---|---|---|\n",
+                           n);
     if (!f) {
         sweep_inward_free(px, sx, q);
         return o->e->status;
     }
     double at1_add = 0, worst_surf = 0;
     float *sy = sx + n, *sz = sy + n;
-    fprintf(o->md, "\n## 1. Inward normals: additive vs surface gradient\n\n"
-                   "Unit sphere, height = A * noise(2 p), n = p, %zu random points. A normal points inward "
-                   "when dot(n', n) <= 0.\n\n| amplitude | additive inward | Perlin's + sign inward | surfgrad inward |\n|---|---|---|---|\n",
-            n);
     static const double amps[] = {0.1, 0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3, 5, 7, 10};
     for (size_t k = 0; k < sizeof amps / sizeof amps[0]; k++) {
         float A = (float)amps[k];
@@ -111,14 +111,14 @@ bg_status st_sweep_step(st_out *o, size_t n)
         rx[i] = g.x, ry[i] = g.y, rz[i] = g.z;
     }
     bgt_safe_file of;
-    FILE *fp = st_csv_begin(o, "central_step.csv", &of, "step,fbm_grad_err_mean,fbm_grad_err_p99");
+    FILE *fp = st_csv_begin(o, "central_step.csv", &of, "step,fbm_grad_err_mean,fbm_grad_err_p99",
+                            "\n## 2. The float32 central-difference step\n\n"
+                            "6-octave fBm, %zu random points in [-8, 8]^3; error = |g_central - g_analytic(double)| "
+                            "(Euclidean), float32 kernels.\n\n| step h | mean error | p99 error |\n|---|---|---|\n", n);
     if (!fp) {
         free(x), free(rx);
         return o->e->status;
     }
-    fprintf(o->md, "\n## 2. The float32 central-difference step\n\n"
-                   "6-octave fBm, %zu random points in [-8, 8]^3; error = |g_central - g_analytic(double)| "
-                   "(Euclidean), float32 kernels.\n\n| step h | mean error | p99 error |\n|---|---|---|\n", n);
     double best = INFINITY, best_h = 0;
     for (int k = 0; k <= 24; k++) {
         double h = pow(10.0, -7.0 + k * 0.25);
@@ -155,14 +155,14 @@ bg_status st_sweep_large(st_out *o)
 {
     bgt_safe_file of;
     FILE *fp = st_csv_begin(o, "large_coords.csv", &of,
-                         "base,float_max_err,float_distinct,double_max_err,double_distinct,double_exact");
+                            "base,float_max_err,float_distinct,double_max_err,double_distinct,double_exact",
+                            "\n## 3. Large coordinates: float vs double entry points\n\n"
+                            "1000 points x = X + k/1024 (k = 0..999), y = 0.3, z = 0.7. Error against the double "
+                            "noise at the reduced coordinate (X mod 256) + k/1024, which equals the exact value because "
+                            "the noise has period 256. `distinct` counts different output values.\n\n"
+                            "| X | float max error | float distinct | double max error | double distinct |\n|---|---|---|---|---|\n");
     if (!fp)
         return o->e->status;
-    fprintf(o->md, "\n## 3. Large coordinates: float vs double entry points\n\n"
-                   "1000 points x = X + k/1024 (k = 0..999), y = 0.3, z = 0.7. Error against the double "
-                   "noise at the reduced coordinate (X mod 256) + k/1024, which equals the exact value because "
-                   "the noise has period 256. `distinct` counts different output values.\n\n"
-                   "| X | float max error | float distinct | double max error | double distinct |\n|---|---|---|---|---|\n");
     int exact_1e7 = 0, distinct_1e7 = 0;
     for (int e10 = 3; e10 <= 8; e10++) {
         double X = pow(10.0, e10);
@@ -243,16 +243,16 @@ bg_status st_sweep_creases(st_out *o, size_t n)
             }
     }
     bgt_safe_file of;
-    FILE *fp = st_csv_begin(o, "creases.csv", &of, "distance_to_crease,count,mean_angle_deg,max_angle_deg");
-    if (!fp)
-        return o->e->status;
-    fprintf(o->md, "\n## 4. Turbulence creases: analytic vs central differences\n\n"
+    FILE *fp = st_csv_begin(o, "creases.csv", &of, "distance_to_crease,count,mean_angle_deg,max_angle_deg",
+                   "\n## 4. Turbulence creases: analytic vs central differences\n\n"
                    "6-octave turbulence, %zu random points, double precision, central step h = %g, normal "
                    "(0,0,1) bumped with amplitude 0.05. Points are binned by their distance to the nearest zero "
                    "crossing of any octave (|noise_i| / |grad noise_i| in world units). Near a crease the "
                    "central difference straddles the kink of |noise| and disagrees with the one-sided analytic "
                    "gradient; away from creases both agree.\n\n| distance to crease | points | mean angle (deg) | max angle (deg) |\n|---|---|---|---|\n",
             n, h);
+    if (!fp)
+        return o->e->status;
     double near_mean = 0, mid_mean = 0;
     for (int b = 0; b < BINS; b++) {
         double m = cnt[b] ? sum[b] / (double)cnt[b] : 0;
