@@ -4,6 +4,7 @@
  * through the dispatch table. Double points run the same template in double. */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include "bumpgrad/noise.h"
 #include "kernels/kernels.h"
 #include "params.h"
@@ -116,8 +117,10 @@ double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
     return p;
 }
 
-/* Per-point calls go straight to the scalar point functions (kernels.h): the
- * same bits as the n = 1 batch, without its table load and loop (issue 10). */
+/* Per-point noise goes straight to the scalar point functions (kernels.h): the
+ * same bits as the n = 1 batch, without its table load and loop (issue 10).
+ * Per-point fractals take the dispatched table's point function, which runs the
+ * octaves of the one point across the vector lanes, with the same bits. */
 float bg_noise3(float x, float y, float z)
 {
     return bg_noise3_point_c(x, y, z);
@@ -149,7 +152,7 @@ float bg_fractal3(const bg_fractal *f, float x, float y, float z)
 {
     if (!bg_fractal_in_range(f))
         return NAN;
-    return bg_fractal3_point_c(f, x, y, z);
+    return bg_kernels()->fractal3_point(f, x, y, z);
 }
 
 float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *grad)
@@ -158,7 +161,7 @@ float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *
         grad->x = grad->y = grad->z = NAN;
         return NAN;
     }
-    float g[3], v = bg_fractal3_grad_point_c(f, x, y, z, g);
+    float g[3], v = bg_kernels()->fractal3_grad_point(f, x, y, z, g);
     grad->x = g[0], grad->y = g[1], grad->z = g[2];
     return v;
 }
@@ -288,4 +291,110 @@ bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const do
         return s;
     bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
     return BG_OK;
+}
+
+/* ---- Regular grids (noise.h) ------------------------------------------------
+ * The grid's points are generated into stack buffers, GRID_CHUNK at a time in
+ * storage order (so short rows and columns still fill whole chunks), and each
+ * chunk goes through the dispatched batch kernel: the bits of the batch call on
+ * the same coordinates by construction. Hoisting the row-invariant y/z work
+ * (lattice, fade) or reusing cell hashes along a row was measured instead of
+ * assumed: docs/KERNELS.md, "Regular grids". */
+#define GRID_CHUNK 512
+
+typedef enum grid_kind { GRID_NOISE, GRID_FRACTAL, GRID_FRACTAL_GRAD } grid_kind;
+
+/* The sample count of `g`, or BG_ERR_OVERFLOW when its output cannot exist. */
+static bg_status grid_total(const bg_grid3 *g, size_t *total)
+{
+    size_t t = 1;
+    *total = 0;
+    if (!g->count[0] || !g->count[1] || !g->count[2])
+        return BG_OK;
+    for (int a = 0; a < 3; a++) {
+        size_t c = g->count[a];
+        if (t > SIZE_MAX / sizeof(float) / c)
+            return BG_ERR_OVERFLOW;
+        t *= c;
+    }
+    *total = t;
+    return BG_OK;
+}
+
+static int grid_finite(const bg_grid3 *g)
+{
+    for (int a = 0; a < 3; a++)
+        if (!isfinite(g->origin[a]) || !isfinite(g->step[a]))
+            return 0;
+    return 1;
+}
+
+/* The coordinate of sample index `i` along axis `a` (noise.h's formula). */
+static inline float grid_coord(const bg_grid3 *g, int a, size_t i)
+{
+    return (float)(g->origin[a] + (double)i * g->step[a]);
+}
+
+static void grid_run(grid_kind kind, const bg_fractal *f, const bg_grid3 *g, size_t total,
+                     float *v, float *gx, float *gy, float *gz)
+{
+    const bg_kernel_table *k = bg_kernels();
+    float xs[GRID_CHUNK], ys[GRID_CHUNK], zs[GRID_CHUNK];
+    size_t i = 0, j = 0, l = 0;
+    float y = grid_coord(g, 1, 0), z = grid_coord(g, 2, 0);
+    for (size_t o = 0; o < total;) {
+        size_t c = total - o < GRID_CHUNK ? total - o : GRID_CHUNK;
+        for (size_t m = 0; m < c; m++) {
+            xs[m] = grid_coord(g, 0, i), ys[m] = y, zs[m] = z;
+            if (++i == g->count[0]) {
+                i = 0;
+                if (++j == g->count[1])
+                    j = 0, z = grid_coord(g, 2, ++l);
+                y = grid_coord(g, 1, j);
+            }
+        }
+        if (kind == GRID_NOISE)
+            k->noise3(xs, ys, zs, c, v + o);
+        else if (kind == GRID_FRACTAL)
+            k->fractal3(f, xs, ys, zs, c, v + o);
+        else
+            k->fractal3_grad(f, xs, ys, zs, c, v ? v + o : NULL, gx + o, gy + o, gz + o);
+        o += c;
+    }
+}
+
+/* noise.h's check order for the grid calls, then the run. */
+static bg_status grid_call(grid_kind kind, const bg_fractal *f, const bg_grid3 *g, float *v,
+                           float *gx, float *gy, float *gz)
+{
+    size_t total;
+    if (!g)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = grid_total(g, &total);
+    if (s != BG_OK || total == 0)
+        return s;
+    if (kind == GRID_FRACTAL_GRAD ? !gx || !gy || !gz : !v)
+        return BG_ERR_NULL_POINTER;
+    if (kind != GRID_NOISE && (s = bg_fractal_validate(f)) != BG_OK)
+        return s;
+    if (!grid_finite(g))
+        return BG_ERR_INVALID_ARGUMENT;
+    grid_run(kind, f, g, total, v, gx, gy, gz);
+    return BG_OK;
+}
+
+bg_status bg_noise3_grid(const bg_grid3 *g, float *value)
+{
+    return grid_call(GRID_NOISE, NULL, g, value, NULL, NULL, NULL);
+}
+
+bg_status bg_fractal3_grid(const bg_fractal *f, const bg_grid3 *g, float *value)
+{
+    return grid_call(GRID_FRACTAL, f, g, value, NULL, NULL, NULL);
+}
+
+bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, float *value, float *gx,
+                                float *gy, float *gz)
+{
+    return grid_call(GRID_FRACTAL_GRAD, f, g, value, gx, gy, gz);
 }
