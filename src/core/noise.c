@@ -294,10 +294,9 @@ bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const do
 }
 
 /* ---- Regular grids (noise.h) ------------------------------------------------
- * The grid's points are generated into stack buffers, GRID_CHUNK at a time in
- * storage order (so short rows and columns still fill whole chunks), and each
- * chunk goes through the dispatched batch kernel: the bits of the batch call on
- * the same coordinates by construction. Hoisting the row-invariant y/z work
+ * The grid's points are generated into stack buffers of GRID_CHUNK points and
+ * each buffer goes through the dispatched batch kernel: the bits of the batch
+ * call on the same coordinates by construction. Hoisting the row-invariant y/z work
  * (lattice, fade) or reusing cell hashes along a row was measured instead of
  * assumed: docs/KERNELS.md, "Regular grids". */
 #define GRID_CHUNK 512
@@ -335,30 +334,65 @@ static inline float grid_coord(const bg_grid3 *g, int a, size_t i)
     return (float)(g->origin[a] + (double)i * g->step[a]);
 }
 
+/* One batch-kernel call on `c` points whose outputs start at index `o`. */
+static void grid_kernel(const bg_kernel_table *k, grid_kind kind, const bg_fractal *f,
+                        const float *xs, const float *ys, const float *zs, size_t c, size_t o,
+                        float *v, float *gx, float *gy, float *gz)
+{
+    if (kind == GRID_NOISE)
+        k->noise3(xs, ys, zs, c, v + o);
+    else if (kind == GRID_FRACTAL)
+        k->fractal3(f, xs, ys, zs, c, v + o);
+    else
+        k->fractal3_grad(f, xs, ys, zs, c, v ? v + o : NULL, gx + o, gy + o, gz + o);
+}
+
+/* Rows of at least GRID_ROW_MIN points run row by row: the x coordinates are
+ * computed once per call (per segment for rows longer than a chunk), y and z
+ * are filled once per row, so the grid adds about 1 instruction per sample to
+ * the batch kernel instead of 16 (docs/KERNELS.md). Shorter rows are packed
+ * across row ends into whole chunks, so a column still fills the vectors. */
+#define GRID_ROW_MIN 16
+
 static void grid_run(grid_kind kind, const bg_fractal *f, const bg_grid3 *g, size_t total,
                      float *v, float *gx, float *gy, float *gz)
 {
     const bg_kernel_table *k = bg_kernels();
     float xs[GRID_CHUNK], ys[GRID_CHUNK], zs[GRID_CHUNK];
+    const size_t nx = g->count[0], ny = g->count[1];
+    if (nx >= GRID_ROW_MIN) {
+        const size_t seg = nx < GRID_CHUNK ? nx : GRID_CHUNK;
+        for (size_t i = 0; i < seg; i++)
+            xs[i] = grid_coord(g, 0, i);
+        for (size_t row = 0, o = 0; o < total; row++) {
+            float y = grid_coord(g, 1, row % ny), z = grid_coord(g, 2, row / ny);
+            for (size_t i = 0; i < seg; i++)
+                ys[i] = y, zs[i] = z;
+            for (size_t s = 0; s < nx; s += seg) {
+                size_t c = nx - s < seg ? nx - s : seg;
+                if (nx > GRID_CHUNK)
+                    for (size_t i = 0; i < c; i++)
+                        xs[i] = grid_coord(g, 0, s + i);
+                grid_kernel(k, kind, f, xs, ys, zs, c, o, v, gx, gy, gz);
+                o += c;
+            }
+        }
+        return;
+    }
     size_t i = 0, j = 0, l = 0;
     float y = grid_coord(g, 1, 0), z = grid_coord(g, 2, 0);
     for (size_t o = 0; o < total;) {
         size_t c = total - o < GRID_CHUNK ? total - o : GRID_CHUNK;
         for (size_t m = 0; m < c; m++) {
             xs[m] = grid_coord(g, 0, i), ys[m] = y, zs[m] = z;
-            if (++i == g->count[0]) {
+            if (++i == nx) {
                 i = 0;
-                if (++j == g->count[1])
+                if (++j == ny)
                     j = 0, z = grid_coord(g, 2, ++l);
                 y = grid_coord(g, 1, j);
             }
         }
-        if (kind == GRID_NOISE)
-            k->noise3(xs, ys, zs, c, v + o);
-        else if (kind == GRID_FRACTAL)
-            k->fractal3(f, xs, ys, zs, c, v + o);
-        else
-            k->fractal3_grad(f, xs, ys, zs, c, v ? v + o : NULL, gx + o, gy + o, gz + o);
+        grid_kernel(k, kind, f, xs, ys, zs, c, o, v, gx, gy, gz);
         o += c;
     }
 }
