@@ -209,68 +209,66 @@ double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x, double
 
 /* Batches (noise.h): n = 0 reads nothing and is BG_OK; otherwise every
  * required pointer and the parameters are checked once, before any output is
- * written, so a failed call leaves the outputs untouched. */
+ * written, so a failed call leaves the outputs untouched. batch_ready is that
+ * one check for every batch here: 1 if the kernel may run, else 0 with the
+ * status to return in *st. `f` is required and validated when `fractal` is
+ * set; a call with fewer than three required outputs passes one of them twice. */
+static int batch_ready(size_t n, int fractal, const bg_fractal *f, const void *x, const void *y,
+                       const void *z, const void *o1, const void *o2, const void *o3,
+                       bg_status *st)
+{
+    *st = BG_OK;
+    if (n == 0)
+        return 0;
+    if (!x || !y || !z || !o1 || !o2 || !o3 || (fractal && !f))
+        *st = BG_ERR_NULL_POINTER;
+    else if (fractal)
+        *st = bg_fractal_validate(f);
+    return *st == BG_OK;
+}
 
 bg_status bg_noise3_batch(const float *x, const float *y, const float *z, size_t n, float *value)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!x || !y || !z || !value)
-        return BG_ERR_NULL_POINTER;
-    bg_kernels()->noise3(x, y, z, n, value);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 0, NULL, x, y, z, value, value, value, &s))
+        bg_kernels()->noise3(x, y, z, n, value);
+    return s;
 }
 
 bg_status bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n,
                                float *value, float *gx, float *gy, float *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_kernels()->noise3_grad(x, y, z, n, value, gx, gy, gz);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 0, NULL, x, y, z, gx, gy, gz, &s))
+        bg_kernels()->noise3_grad(x, y, z, n, value, gx, gy, gz);
+    return s;
 }
 
 bg_status bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
                             size_t n, float *value)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !value)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
-        return s;
-    bg_kernels()->fractal3(f, x, y, z, n, value);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 1, f, x, y, z, value, value, value, &s))
+        bg_kernels()->fractal3(f, x, y, z, n, value);
+    return s;
 }
 
 bg_status bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y,
                                  const float *z, size_t n, float *value, float *gx, float *gy,
                                  float *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
-        return s;
-    bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
+        bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return s;
 }
 
 bg_status bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
                                          const float *y, const float *z, size_t n, float *value,
                                          float *gx, float *gy, float *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
+    bg_status s;
+    if (!batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
         return s;
     if (!bg_central_step_ok(h))
         return BG_ERR_INVALID_ARGUMENT;
@@ -282,15 +280,10 @@ bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const do
                                   const double *z, size_t n, double *value, double *gx,
                                   double *gy, double *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
-        return s;
-    bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
+        bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return s;
 }
 
 /* ---- Regular grids (noise.h) ------------------------------------------------
@@ -407,9 +400,9 @@ static bg_status grid_call(grid_kind kind, const bg_fractal *f, const bg_grid3 *
     bg_status s = grid_total(g, &total);
     if (s != BG_OK || total == 0)
         return s;
-    if (kind == GRID_FRACTAL_GRAD ? !gx || !gy || !gz : !v)
-        return BG_ERR_NULL_POINTER;
-    if (kind != GRID_NOISE && (s = bg_fractal_validate(f)) != BG_OK)
+    const float *o1 = kind == GRID_FRACTAL_GRAD ? gx : v;
+    if (!batch_ready(total, kind != GRID_NOISE, f, g, g, g, o1, kind == GRID_FRACTAL_GRAD ? gy : o1,
+                     kind == GRID_FRACTAL_GRAD ? gz : o1, &s))
         return s;
     if (!grid_finite(g))
         return BG_ERR_INVALID_ARGUMENT;
