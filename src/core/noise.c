@@ -166,18 +166,6 @@ float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *
     return v;
 }
 
-float bg_fractal3_grad_central(const bg_fractal *f, float h, float x, float y, float z,
-                               bg_vec3 *grad)
-{
-    if (!bg_fractal_in_range(f) || !bg_central_step_ok(h)) {
-        grad->x = grad->y = grad->z = NAN;
-        return NAN;
-    }
-    float v;
-    bg_kernels_c.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
-    return v;
-}
-
 double bg_fractal3d(const bg_fractal *f, double x, double y, double z)
 {
     bg_dvec3 g;
@@ -195,17 +183,22 @@ double bg_fractal3d_grad(const bg_fractal *f, double x, double y, double z, bg_d
     return v;
 }
 
-double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x, double y, double z,
-                                 bg_dvec3 *grad)
-{
-    if (!bg_fractal_in_range(f) || !bg_central_step_ok(h)) {
-        grad->x = grad->y = grad->z = NAN;
-        return NAN;
+/* The central-difference point, once for float and double: the n = 1 call of
+ * that precision's scalar kernel, or NaN value and gradient for a bad `f` or
+ * step (noise.h). */
+#define CENTRAL_POINT(name, real, vec3, table)                                               \
+    real name(const bg_fractal *f, real h, real x, real y, real z, vec3 *grad)              \
+    {                                                                                      \
+        real v = NAN;                                                                      \
+        if (bg_fractal_in_range(f) && bg_central_step_ok(h))                               \
+            table.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y,       \
+                                        &grad->z);                                         \
+        else                                                                               \
+            grad->x = grad->y = grad->z = NAN;                                             \
+        return v;                                                                          \
     }
-    double v;
-    bg_kernels_c64.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
-    return v;
-}
+CENTRAL_POINT(bg_fractal3_grad_central, float, bg_vec3, bg_kernels_c)
+CENTRAL_POINT(bg_fractal3d_grad_central, double, bg_dvec3, bg_kernels_c64)
 
 /* Batches (noise.h): n = 0 reads nothing and is BG_OK; otherwise every
  * required pointer and the parameters are checked once, before any output is
