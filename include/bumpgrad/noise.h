@@ -246,6 +246,48 @@ BG_API bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, c
                                          const double *z, size_t n, double *value, double *gx,
                                          double *gy, double *gz);
 
+/* ---- regular grids (voxel and image bakes) --------------------------------- */
+
+/** A regular lattice of sample points. Sample (i, j, k), 0 <= i < count[0],
+ *  0 <= j < count[1], 0 <= k < count[2], lies at
+ *  x = (float)(origin[0] + (double)i * step[0]), likewise y with j and z with k
+ *  (computed in double and rounded once to float), and is stored at index
+ *  i + count[0] * (j + count[1] * k): x fastest, then y, then z. A 2D image is
+ *  a grid with count[2] = 1. */
+typedef struct bg_grid3 {
+    double origin[3]; /**< coordinate of sample (0, 0, 0), noise space */
+    double step[3];   /**< spacing along each axis, noise space (any finite value) */
+    size_t count[3];  /**< samples along each axis */
+} bg_grid3;
+
+/* Grid calls give, for every sample, the bits of the batch call with the same
+ * float coordinates (the formula above): one entry point per batch, for callers
+ * that would otherwise fill three coordinate arrays. Outputs have
+ * count[0] * count[1] * count[2] elements. Checked once per call, before any
+ * output is written, in this order:
+ *  - BG_ERR_NULL_POINTER if `g` is NULL;
+ *  - BG_ERR_OVERFLOW if count[0] * count[1] * count[2] * sizeof(float) does not
+ *    fit in a size_t (no buffer could hold the output);
+ *  - a grid with no sample (a count of 0): nothing else is read, BG_OK;
+ *  - BG_ERR_NULL_POINTER for a NULL descriptor or required output; then the
+ *    status of bg_fractal_validate(f);
+ *  - BG_ERR_INVALID_ARGUMENT if an origin or a step is not finite.
+ * Coordinates that overflow float give NaN results (the NaN rule above), as in
+ * a batch. Single-threaded and reentrant; no memory is allocated (the
+ * coordinates go through a fixed stack buffer of a few KB). */
+
+/** Noise values on a grid. @return as described above. */
+BG_API bg_status bg_noise3_grid(const bg_grid3 *g, float *value);
+
+/** Fractal values on a grid (bg_fractal3_batch on the grid's points). */
+BG_API bg_status bg_fractal3_grid(const bg_fractal *f, const bg_grid3 *g, float *value);
+
+/** Fractal values and analytic gradients on a grid (bg_fractal3_grad_batch on
+ *  the grid's points): gradients as three arrays like the batch; `value` may be
+ *  NULL. Plain noise with its gradient: a descriptor with BG_FUNC_NOISE. */
+BG_API bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, float *value,
+                                       float *gx, float *gy, float *gz);
+
 #ifdef __cplusplus
 }
 #endif

@@ -4,6 +4,7 @@
  * through the dispatch table. Double points run the same template in double. */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include "bumpgrad/noise.h"
 #include "kernels/kernels.h"
 #include "params.h"
@@ -116,8 +117,10 @@ double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
     return p;
 }
 
-/* Per-point calls go straight to the scalar point functions (kernels.h): the
- * same bits as the n = 1 batch, without its table load and loop (issue 10). */
+/* Per-point noise goes straight to the scalar point functions (kernels.h): the
+ * same bits as the n = 1 batch, without its table load and loop (issue 10).
+ * Per-point fractals take the dispatched table's point function, which runs the
+ * octaves of the one point across the vector lanes, with the same bits. */
 float bg_noise3(float x, float y, float z)
 {
     return bg_noise3_point_c(x, y, z);
@@ -149,7 +152,7 @@ float bg_fractal3(const bg_fractal *f, float x, float y, float z)
 {
     if (!bg_fractal_in_range(f))
         return NAN;
-    return bg_fractal3_point_c(f, x, y, z);
+    return bg_kernels()->fractal3_point(f, x, y, z);
 }
 
 float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *grad)
@@ -158,20 +161,8 @@ float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *
         grad->x = grad->y = grad->z = NAN;
         return NAN;
     }
-    float g[3], v = bg_fractal3_grad_point_c(f, x, y, z, g);
+    float g[3], v = bg_kernels()->fractal3_grad_point(f, x, y, z, g);
     grad->x = g[0], grad->y = g[1], grad->z = g[2];
-    return v;
-}
-
-float bg_fractal3_grad_central(const bg_fractal *f, float h, float x, float y, float z,
-                               bg_vec3 *grad)
-{
-    if (!bg_fractal_in_range(f) || !bg_central_step_ok(h)) {
-        grad->x = grad->y = grad->z = NAN;
-        return NAN;
-    }
-    float v;
-    bg_kernels_c.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
     return v;
 }
 
@@ -192,82 +183,85 @@ double bg_fractal3d_grad(const bg_fractal *f, double x, double y, double z, bg_d
     return v;
 }
 
-double bg_fractal3d_grad_central(const bg_fractal *f, double h, double x, double y, double z,
-                                 bg_dvec3 *grad)
-{
-    if (!bg_fractal_in_range(f) || !bg_central_step_ok(h)) {
-        grad->x = grad->y = grad->z = NAN;
-        return NAN;
+/* The central-difference point, once for float and double: the n = 1 call of
+ * that precision's scalar kernel, or NaN value and gradient for a bad `f` or
+ * step (noise.h). */
+#define CENTRAL_POINT(name, real, vec3, table)                                               \
+    real name(const bg_fractal *f, real h, real x, real y, real z, vec3 *grad)              \
+    {                                                                                      \
+        real v = NAN;                                                                      \
+        if (bg_fractal_in_range(f) && bg_central_step_ok(h))                               \
+            table.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y,       \
+                                        &grad->z);                                         \
+        else                                                                               \
+            grad->x = grad->y = grad->z = NAN;                                             \
+        return v;                                                                          \
     }
-    double v;
-    bg_kernels_c64.fractal3_grad_central(f, h, &x, &y, &z, 1, &v, &grad->x, &grad->y, &grad->z);
-    return v;
-}
+CENTRAL_POINT(bg_fractal3_grad_central, float, bg_vec3, bg_kernels_c)
+CENTRAL_POINT(bg_fractal3d_grad_central, double, bg_dvec3, bg_kernels_c64)
 
 /* Batches (noise.h): n = 0 reads nothing and is BG_OK; otherwise every
  * required pointer and the parameters are checked once, before any output is
- * written, so a failed call leaves the outputs untouched. */
+ * written, so a failed call leaves the outputs untouched. batch_ready is that
+ * one check for every batch here: 1 if the kernel may run, else 0 with the
+ * status to return in *st. `f` is required and validated when `fractal` is
+ * set; a call with fewer than three required outputs passes one of them twice. */
+static int batch_ready(size_t n, int fractal, const bg_fractal *f, const void *x, const void *y,
+                       const void *z, const void *o1, const void *o2, const void *o3,
+                       bg_status *st)
+{
+    *st = BG_OK;
+    if (n == 0)
+        return 0;
+    if (!x || !y || !z || !o1 || !o2 || !o3 || (fractal && !f))
+        *st = BG_ERR_NULL_POINTER;
+    else if (fractal)
+        *st = bg_fractal_validate(f);
+    return *st == BG_OK;
+}
 
 bg_status bg_noise3_batch(const float *x, const float *y, const float *z, size_t n, float *value)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!x || !y || !z || !value)
-        return BG_ERR_NULL_POINTER;
-    bg_kernels()->noise3(x, y, z, n, value);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 0, NULL, x, y, z, value, value, value, &s))
+        bg_kernels()->noise3(x, y, z, n, value);
+    return s;
 }
 
 bg_status bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n,
                                float *value, float *gx, float *gy, float *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_kernels()->noise3_grad(x, y, z, n, value, gx, gy, gz);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 0, NULL, x, y, z, gx, gy, gz, &s))
+        bg_kernels()->noise3_grad(x, y, z, n, value, gx, gy, gz);
+    return s;
 }
 
 bg_status bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
                             size_t n, float *value)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !value)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
-        return s;
-    bg_kernels()->fractal3(f, x, y, z, n, value);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 1, f, x, y, z, value, value, value, &s))
+        bg_kernels()->fractal3(f, x, y, z, n, value);
+    return s;
 }
 
 bg_status bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y,
                                  const float *z, size_t n, float *value, float *gx, float *gy,
                                  float *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
-        return s;
-    bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
-    return BG_OK;
+    bg_status s;
+    if (batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
+        bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return s;
 }
 
 bg_status bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
                                          const float *y, const float *z, size_t n, float *value,
                                          float *gx, float *gy, float *gz)
 {
-    if (n == 0)
-        return BG_OK;
-    if (!f || !x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
+    bg_status s;
+    if (!batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
         return s;
     if (!bg_central_step_ok(h))
         return BG_ERR_INVALID_ARGUMENT;
@@ -279,13 +273,148 @@ bg_status bg_fractal3d_grad_batch(const bg_fractal *f, const double *x, const do
                                   const double *z, size_t n, double *value, double *gx,
                                   double *gy, double *gz)
 {
-    if (n == 0)
+    bg_status s;
+    if (batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
+        bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return s;
+}
+
+/* ---- Regular grids (noise.h) ------------------------------------------------
+ * The grid's points are generated into stack buffers of GRID_CHUNK points and
+ * each buffer goes through the dispatched batch kernel: the bits of the batch
+ * call on the same coordinates by construction. Hoisting the row-invariant y/z work
+ * (lattice, fade) or reusing cell hashes along a row was measured instead of
+ * assumed: docs/KERNELS.md, "Regular grids". */
+#define GRID_CHUNK 512
+
+typedef enum grid_kind { GRID_NOISE, GRID_FRACTAL, GRID_FRACTAL_GRAD } grid_kind;
+
+/* The sample count of `g`, or BG_ERR_OVERFLOW when its output cannot exist. */
+static bg_status grid_total(const bg_grid3 *g, size_t *total)
+{
+    size_t t = 1;
+    *total = 0;
+    if (!g->count[0] || !g->count[1] || !g->count[2])
         return BG_OK;
-    if (!f || !x || !y || !z || !gx || !gy || !gz)
-        return BG_ERR_NULL_POINTER;
-    bg_status s = bg_fractal_validate(f);
-    if (s != BG_OK)
-        return s;
-    bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    for (int a = 0; a < 3; a++) {
+        size_t c = g->count[a];
+        if (t > SIZE_MAX / sizeof(float) / c)
+            return BG_ERR_OVERFLOW;
+        t *= c;
+    }
+    *total = t;
     return BG_OK;
+}
+
+static int grid_finite(const bg_grid3 *g)
+{
+    for (int a = 0; a < 3; a++)
+        if (!isfinite(g->origin[a]) || !isfinite(g->step[a]))
+            return 0;
+    return 1;
+}
+
+/* The coordinate of sample index `i` along axis `a` (noise.h's formula). */
+static inline float grid_coord(const bg_grid3 *g, int a, size_t i)
+{
+    return (float)(g->origin[a] + (double)i * g->step[a]);
+}
+
+/* One batch-kernel call on `c` points whose outputs start at index `o`. */
+static void grid_kernel(const bg_kernel_table *k, grid_kind kind, const bg_fractal *f,
+                        const float *xs, const float *ys, const float *zs, size_t c, size_t o,
+                        float *v, float *gx, float *gy, float *gz)
+{
+    if (kind == GRID_NOISE)
+        k->noise3(xs, ys, zs, c, v + o);
+    else if (kind == GRID_FRACTAL)
+        k->fractal3(f, xs, ys, zs, c, v + o);
+    else
+        k->fractal3_grad(f, xs, ys, zs, c, v ? v + o : NULL, gx + o, gy + o, gz + o);
+}
+
+/* Rows of at least GRID_ROW_MIN points run row by row: the x coordinates are
+ * computed once per call (per segment for rows longer than a chunk), y and z
+ * are filled once per row, so the grid adds about 1 instruction per sample to
+ * the batch kernel instead of 16 (docs/KERNELS.md). Shorter rows are packed
+ * across row ends into whole chunks, so a column still fills the vectors. */
+#define GRID_ROW_MIN 16
+
+static void grid_run(grid_kind kind, const bg_fractal *f, const bg_grid3 *g, size_t total,
+                     float *v, float *gx, float *gy, float *gz)
+{
+    const bg_kernel_table *k = bg_kernels();
+    float xs[GRID_CHUNK], ys[GRID_CHUNK], zs[GRID_CHUNK];
+    const size_t nx = g->count[0], ny = g->count[1];
+    if (nx >= GRID_ROW_MIN) {
+        const size_t seg = nx < GRID_CHUNK ? nx : GRID_CHUNK;
+        for (size_t i = 0; i < seg; i++)
+            xs[i] = grid_coord(g, 0, i);
+        for (size_t row = 0, o = 0; o < total; row++) {
+            float y = grid_coord(g, 1, row % ny), z = grid_coord(g, 2, row / ny);
+            for (size_t i = 0; i < seg; i++)
+                ys[i] = y, zs[i] = z;
+            for (size_t s = 0; s < nx; s += seg) {
+                size_t c = nx - s < seg ? nx - s : seg;
+                if (nx > GRID_CHUNK)
+                    for (size_t i = 0; i < c; i++)
+                        xs[i] = grid_coord(g, 0, s + i);
+                grid_kernel(k, kind, f, xs, ys, zs, c, o, v, gx, gy, gz);
+                o += c;
+            }
+        }
+        return;
+    }
+    size_t i = 0, j = 0, l = 0;
+    float y = grid_coord(g, 1, 0), z = grid_coord(g, 2, 0);
+    for (size_t o = 0; o < total;) {
+        size_t c = total - o < GRID_CHUNK ? total - o : GRID_CHUNK;
+        for (size_t m = 0; m < c; m++) {
+            xs[m] = grid_coord(g, 0, i), ys[m] = y, zs[m] = z;
+            if (++i == nx) {
+                i = 0;
+                if (++j == ny)
+                    j = 0, z = grid_coord(g, 2, ++l);
+                y = grid_coord(g, 1, j);
+            }
+        }
+        grid_kernel(k, kind, f, xs, ys, zs, c, o, v, gx, gy, gz);
+        o += c;
+    }
+}
+
+/* noise.h's check order for the grid calls, then the run. */
+static bg_status grid_call(grid_kind kind, const bg_fractal *f, const bg_grid3 *g, float *v,
+                           float *gx, float *gy, float *gz)
+{
+    size_t total;
+    if (!g)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = grid_total(g, &total);
+    if (s != BG_OK || total == 0)
+        return s;
+    const float *o1 = kind == GRID_FRACTAL_GRAD ? gx : v;
+    if (!batch_ready(total, kind != GRID_NOISE, f, g, g, g, o1, kind == GRID_FRACTAL_GRAD ? gy : o1,
+                     kind == GRID_FRACTAL_GRAD ? gz : o1, &s))
+        return s;
+    if (!grid_finite(g))
+        return BG_ERR_INVALID_ARGUMENT;
+    grid_run(kind, f, g, total, v, gx, gy, gz);
+    return BG_OK;
+}
+
+bg_status bg_noise3_grid(const bg_grid3 *g, float *value)
+{
+    return grid_call(GRID_NOISE, NULL, g, value, NULL, NULL, NULL);
+}
+
+bg_status bg_fractal3_grid(const bg_fractal *f, const bg_grid3 *g, float *value)
+{
+    return grid_call(GRID_FRACTAL, f, g, value, NULL, NULL, NULL);
+}
+
+bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, float *value, float *gx,
+                                float *gy, float *gz)
+{
+    return grid_call(GRID_FRACTAL_GRAD, f, g, value, gx, gy, gz);
 }

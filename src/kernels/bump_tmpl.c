@@ -689,6 +689,91 @@ float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, f
 }
 #endif
 
+/* ---- Single points with the octaves across lanes -----------------------------
+ * A per-point fBm/turbulence call has no second point to fill the lanes with,
+ * but its octaves are independent noise evaluations: octave i at
+ * (lac^i x, lac^i y, lac^i z). So one vector evaluates LANES octaves of the one
+ * point (all 6 default octaves in one AVX2 noise_vec instead of 6 scalar ones),
+ * and the octave sum is then formed lane by lane in octave order with the
+ * scalar kernel's operations (fractal_fp_vec without footprint): the same
+ * products x * freq_i, the same noise bits per lane (every ISA equals scalar),
+ * the same sequential sum, so the same bits as bg_fractal3_point_c (issue 10;
+ * tests/kernels/check_grid.c checks every table against it). A chunk of a
+ * single octave runs on the scalar point function (a whole vector for one
+ * octave costs more); NaN payloads may differ before the final vf_canon, which
+ * makes every NaN the canonical one. */
+#if LANES > 1 && !defined(BG_SCALAR_DOUBLE)
+BG_INLINE float fractal_point_lanes(const bg_fractal *f, float x, float y, float z, int want_grad,
+                                    float g[3])
+{
+    const int octaves = f->octaves, turb = f->function == BG_FUNC_TURBULENCE;
+    const float gain = f->gain, lac = f->lacunarity;
+    float amp = 1, freq = 1, sv = 0, sx = 0, sy = 0, sz = 0;
+    for (int i0 = 0; i0 < octaves; i0 += LANES) {
+        int c = octaves - i0 < LANES ? octaves - i0 : LANES;
+        float nv[LANES], nx[LANES], ny[LANES], nz[LANES];
+        if (c == 1) {
+            if (want_grad) {
+                float og[3];
+                nv[0] = bg_noise3_grad_point_c(x * freq, y * freq, z * freq, og);
+                nx[0] = og[0], ny[0] = og[1], nz[0] = og[2];
+            } else {
+                nv[0] = bg_noise3_point_c(x * freq, y * freq, z * freq);
+            }
+        } else {
+            float fq[LANES], fr = freq;
+            for (int k = 0; k < LANES; k++) {
+                fq[k] = k < c ? fr : 0; /* unused lanes sample the origin */
+                fr *= lac;
+            }
+            vf vq = vf_loadn(fq, LANES);
+            corner o = noise_vec(vf_mul(vf_set1(x), vq), vf_mul(vf_set1(y), vq),
+                                 vf_mul(vf_set1(z), vq), want_grad);
+            vf_storen(nv, o.v, LANES);
+            if (want_grad) {
+                vf_storen(nx, o.gx, LANES);
+                vf_storen(ny, o.gy, LANES);
+                vf_storen(nz, o.gz, LANES);
+            }
+        }
+        for (int k = 0; k < c; k++) {
+            float a = amp, af = amp * freq, n = nv[k];
+            if (turb) {
+                sv = sv + a * fabsf(n);
+                af = n < 0 ? -af : af;
+            } else {
+                sv = sv + a * n;
+            }
+            if (want_grad) {
+                sx = sx + af * nx[k];
+                sy = sy + af * ny[k];
+                sz = sz + af * nz[k];
+            }
+            amp *= gain;
+            freq *= lac;
+        }
+    }
+    if (want_grad) {
+        g[0] = sx != sx ? NAN : sx, g[1] = sy != sy ? NAN : sy, g[2] = sz != sz ? NAN : sz;
+    }
+    return sv != sv ? NAN : sv;
+}
+
+static float KFN(fractal3_point)(const bg_fractal *f, float x, float y, float z)
+{
+    if (f->function == BG_FUNC_NOISE || f->octaves < 2)
+        return bg_fractal3_point_c(f, x, y, z);
+    return fractal_point_lanes(f, x, y, z, 0, NULL);
+}
+
+static float KFN(fractal3_grad_point)(const bg_fractal *f, float x, float y, float z, float g[3])
+{
+    if (f->function == BG_FUNC_NOISE || f->octaves < 2)
+        return bg_fractal3_grad_point_c(f, x, y, z, g);
+    return fractal_point_lanes(f, x, y, z, 1, g);
+}
+#endif
+
 /* ---- This ISA's kernel table ---------------------------------------------- */
 #define BG_STR2(a) #a
 #define BG_STR(a) BG_STR2(a)
@@ -711,6 +796,13 @@ const bg_kernel_table KFN(kernels) = {
     .perturb_height = KFN(perturb_height),
     .fractal3_grad_fp = KFN(fractal3_grad_fp),
     .perturb_height_fp = KFN(perturb_height_fp),
+#if LANES > 1
+    .fractal3_point = KFN(fractal3_point),
+    .fractal3_grad_point = KFN(fractal3_grad_point),
+#else
+    .fractal3_point = bg_fractal3_point_c,
+    .fractal3_grad_point = bg_fractal3_grad_point_c,
+#endif
     .name = BG_STR(BG_ISA_SUFFIX),
 };
 #endif

@@ -42,6 +42,11 @@ typedef struct bg_kernel_table {
                               const float *px, const float *py, const float *pz, const float *nx,
                               const float *ny, const float *nz, size_t n, float *height, float *ox,
                               float *oy, float *oz);
+    /* One point of fBm/turbulence with its octaves across the lanes (bump_tmpl.c);
+     * the same bits as bg_fractal3_point_c / bg_fractal3_grad_point_c, which the
+     * scalar table holds. `f` must be in range (bg_fractal_in_range). */
+    float (*fractal3_point)(const bg_fractal *f, float x, float y, float z);
+    float (*fractal3_grad_point)(const bg_fractal *f, float x, float y, float z, float g[3]);
     /* Name of this table's variant: the BG_ISA_SUFFIX ("c", "sse2", ..., "avx512vbmi"). */
     const char *name;
 } bg_kernel_table;
