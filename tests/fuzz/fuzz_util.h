@@ -35,6 +35,26 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The in-process variants (fuzz_mesh_inproc, fuzz_vdb_inproc: the same harness
+ * source built with -DFUZZ_NO_FORK). The I/O shim loads in-process when it
+ * cannot fork: the mesh import runs import_guarded, the very function the
+ * import child runs (same assimp flags and post-processing), in this process;
+ * the VDB open skips its probe child and runs open_impl, which the parent runs
+ * after every probe anyway. This fork() takes the place of libc's for the
+ * module (exports.list exports it) and always fails, so the shim takes that
+ * path with no fork, pipe, child or 10 ms polling per input. What is lost:
+ * the child's isolation (an abort inside assimp or OpenVDB, which the child
+ * would contain, kills the fuzzer and is a finding about that library) and the
+ * child's limits (the harness's -rss_limit_mb and -timeout stand in). */
+#ifdef FUZZ_NO_FORK
+pid_t fork(void);
+pid_t fork(void)
+{
+    errno = EAGAIN;
+    return -1;
+}
+#endif
+
 /* Report a broken invariant and abort: libFuzzer saves the input. */
 #define FUZZ_CHECK(cond, ...)                                                                    \
     do {                                                                                         \

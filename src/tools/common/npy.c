@@ -114,8 +114,12 @@ bg_status bgt_npy_open(bgt_npy_in *a, bgt_err *err, const char *path, int allow_
     if (!rc) {
         unsigned long long n, k;
         int used = 0;
-        if (sscanf(sh, "(%llu , %llu )%n", &n, &k, &used) < 2 || used == 0) {
+        if (sscanf(sh, "(%llu , %llu )%n", &n, &k, &used) < 2 || used == 0 ||
+            memchr(sh, '-', (size_t)used)) { /* %llu reads "-1" as 2^64 - 1 */
             rc = bad(a, hoff + (size_t)(sh - h), "shape is not (N, K)");
+        } else if (k && n > SIZE_MAX / k / 8) { /* the byte count below must not wrap */
+            snprintf(msg, sizeof msg, "shape (%llu, %llu) is too large", n, k);
+            rc = bad(a, hoff + (size_t)(sh - h), msg);
         } else {
             int ok = 0;
             for (int i = 0; i < nwant; i++)
