@@ -230,6 +230,10 @@ static int run_mesh(void *args, const char *const *pos, int npos)
         return cli_usage_error(cmd, "missing OUT.ply (or --bake-normal-map FILE)");
     if (bake_path && bake.width == 0)
         return cli_usage_error(cmd, "--bake-normal-map needs --size N (or WxH)");
+    if (bake_path && strcmp(bake_path, "-") == 0)
+        /* the mesh tool writes each map to a temporary file next to it */
+        return cli_usage_error(cmd, "--bake-normal-map -: standard output is not supported for "
+                                    "the map yet; give a file name");
     if (!bake_path && bake.width != 0)
         return cli_usage_error(cmd, "--size is for --bake-normal-map");
     bgt_mesh_opts opts = {.input = in_path, .output = out_path, .bake_path = bake_path,
