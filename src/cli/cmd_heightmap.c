@@ -66,10 +66,7 @@ static const cli_opt heightmap_opts[] = {
 };
 #undef A
 
-static int run_heightmap(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_heightmap = {
-    .name = "heightmap",
+CLI_SPEC(heightmap,
     .summary = "image -> tangent-space normal map (seed method); normal map -> derivative map",
     .usage = "IN OUT [options]\nIN OUT --to-derivative [--bits float]",
     .about = "Turn any image OpenImageIO reads into a tangent-space normal map, treating\n"
@@ -96,11 +93,8 @@ const cli_spec cli_spec_heightmap = {
             "Examples:\n"
             "  bumpgrad heightmap diffuse.png normal.png --strength 2 --edge wrap\n"
             "  bumpgrad heightmap normal.png deriv.exr --to-derivative\n",
-    .args_size = sizeof(heightmap_args),
-    .defaults = heightmap_defaults,
     .max_positional = 2,
-    .run = run_heightmap,
-};
+);
 
 static int run_heightmap(void *args, const char *const *pos, int npos)
 {

@@ -173,10 +173,7 @@ static const cli_opt mesh_table[] = {
 };
 #undef A
 
-static int run_mesh(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_mesh = {
-    .name = "mesh",
+CLI_SPEC(mesh,
     .summary = "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a "
                "normal map",
     .usage = "[options] IN [OUT.ply|OUT.glb|OUT.gltf|OUT.obj]",
@@ -209,11 +206,8 @@ const cli_spec cli_spec_mesh = {
             "  bumpgrad mesh --compare model.obj bumped.ply\n"
             "  bumpgrad mesh --function fbm --frequency 8 --amplitude 0.02 \\\n"
             "      --bake-normal-map normals.png --size 1024 model.ply\n",
-    .args_size = sizeof(mesh_args),
-    .defaults = mesh_defaults,
     .max_positional = 2,
-    .run = run_mesh,
-};
+);
 
 static int run_mesh(void *args, const char *const *pos, int npos)
 {

@@ -297,10 +297,7 @@ static const cli_opt render_opts_table[] = {
 #undef A
 #undef O
 
-static int run_render(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_render = {
-    .name = "render",
+CLI_SPEC(render,
     .summary = "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
     .usage = "[options] --output FILE.png|FILE.exr\n"
              "--preset fig1|fig2|fig3|fig4 --output FILE.png\n"
@@ -345,10 +342,7 @@ const cli_spec cli_spec_render = {
             "Examples:\n"
             "  bumpgrad render --preset fig2 --output fig2.png\n"
             "  bumpgrad render --compare surfgrad,listing1,additive --size 256x256 -o cmp.png\n",
-    .args_size = sizeof(render_args),
-    .defaults = render_defaults,
-    .run = run_render,
-};
+);
 
 
 static void print_json(const render_opts *o, const render_result *r, double seconds)
