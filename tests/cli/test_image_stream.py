@@ -115,4 +115,10 @@ check(rc == 2 and "--json" in err and out == b"", "heightmap --json with OUT - r
 rc, out, err = run(["heightmap", "-", "-"], b"not an image")
 check(rc == 2 and out == b"" and "error" in err, "garbage on stdin: exit 2: %r" % err)
 
+# mesh --bake-normal-map -: refused with the reason until the mesh tool can
+# stream its map (the option is checked before the mesh is opened).
+rc, out, err = run(["mesh", "no_such.ply", "--bake-normal-map", "-", "--size", "8"])
+check(rc == 2 and "standard output is not supported" in err and out == b"",
+      "mesh --bake-normal-map - refused clearly, exit 2: %r" % err)
+
 sys.exit(1 if FAILS else 0)
