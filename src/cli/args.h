@@ -104,6 +104,20 @@ typedef struct cli_spec {
     int (*run)(void *args, const char *const *pos, int npos);
 } cli_spec;
 
+/* A command's spec, `const cli_spec cli_spec_NAME`, with the fields every
+ * command sets the same way: .name "NAME", the args struct NAME_args, its
+ * defaults NAME_defaults and run_NAME (declared here, defined after the spec);
+ * the rest (.summary, .usage, .opts, ...) as designated initializers:
+ *   CLI_SPEC(eval, .summary = "...", .usage = "...", .opts = eval_opts);
+ *   static int run_eval(void *args, const char *const *pos, int npos) { ... } */
+#define CLI_SPEC(NAME, ...)                                                                        \
+    static int run_##NAME(void *args, const char *const *pos, int npos);                           \
+    const cli_spec cli_spec_##NAME = {.name = #NAME,                                               \
+                                      .args_size = sizeof(NAME##_args),                            \
+                                      .defaults = NAME##_defaults,                                 \
+                                      .run = run_##NAME,                                           \
+                                      __VA_ARGS__}
+
 enum { CLI_MAX_POSITIONAL = 4 };
 
 /* Returned by cli_args_parse after printing --help on stdout. */

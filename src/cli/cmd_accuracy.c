@@ -44,10 +44,7 @@ static const cli_opt accuracy_opts[] = {
 };
 #undef A
 
-static int run_accuracy(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_accuracy = {
-    .name = "accuracy",
+CLI_SPEC(accuracy,
     .summary = "speed against accuracy of every gradient method: CSV and a log-log chart",
     .usage = "[--out DIR] [--samples N] [--runs R] [height options]",
     .about =
@@ -68,10 +65,7 @@ const cli_spec cli_spec_accuracy = {
         "err_p99_deg,err_max_deg), DIR/accuracy.gp and, with gnuplot, DIR/accuracy.png\n"
         "and DIR/accuracy.svg (log-log time against mean error, Pareto front marked).\n",
     .opts = accuracy_opts,
-    .args_size = sizeof(accuracy_args),
-    .defaults = accuracy_defaults,
-    .run = run_accuracy,
-};
+);
 
 /* The table on stdout, printed when the study reports accuracy.csv in place
  * (its rows are final then), ahead of the chart's lines. */

@@ -93,10 +93,7 @@ static const cli_opt bench_opts[] = {
 };
 #undef A
 
-static int bench_run(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_bench = {
-    .name = "bench",
+CLI_SPEC(bench,
     .summary = "throughput of every kernel and ISA, 1 and N threads, against peer libraries",
     .usage = "[--json] [--threads N] [--isa ISA] [--samples N] [--runs R] [--kernels LIST] "
              "[--icount FILE] [--quick]",
@@ -107,10 +104,7 @@ const cli_spec cli_spec_bench = {
              "Each row is timed R times after a warm-up; the median, min and max are shown.\n"
              "A benchmark: it never fails on slow numbers. See docs/PERFORMANCE.md.\n",
     .opts = bench_opts,
-    .args_size = sizeof(bench_args),
-    .defaults = bench_defaults,
-    .run = bench_run,
-};
+);
 
 static void json_number(FILE *fp, const char *key, double v)
 {
@@ -213,7 +207,7 @@ static void on_measuring(void *ctx, const bgt_bench_row *r)
 }
 
 /* The command once parsed (cli_run_command has parsed argv into bench_args). */
-static int bench_run(void *args, const char *const *pos, int npos)
+static int run_bench(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
     const bench_args *ap = args;

@@ -52,10 +52,7 @@ static const cli_opt eval_opts[] = {
 };
 #undef A
 
-static int run_eval(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_eval = {
-    .name = "eval",
+CLI_SPEC(eval,
     .summary = "noise / fBm / turbulence value and gradient at points from a CSV table",
     .usage = "[options] --input IN.csv --output OUT.csv",
     .about = "Evaluate Perlin's improved noise (2002), fBm or turbulence (1985) and its\n"
@@ -85,10 +82,7 @@ const cli_spec cli_spec_eval = {
             "  printf 'x,y,z\\n3.14,42,7\\n' | bumpgrad eval --precision double -i - -o -\n"
             "  bumpgrad eval --function turbulence --octaves 8 -i pts.csv -o out.csv\n"
             "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n",
-    .args_size = sizeof(eval_args),
-    .defaults = eval_defaults,
-    .run = run_eval,
-};
+);
 
 static int run_eval(void *args, const char *const *pos, int npos)
 {

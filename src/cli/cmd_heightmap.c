@@ -66,10 +66,7 @@ static const cli_opt heightmap_opts[] = {
 };
 #undef A
 
-static int run_heightmap(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_heightmap = {
-    .name = "heightmap",
+CLI_SPEC(heightmap,
     .summary = "image -> tangent-space normal map (seed method); normal map -> derivative map",
     .usage = "IN OUT [options]\nIN OUT --to-derivative [--bits float]",
     .about = "Turn any image OpenImageIO reads into a tangent-space normal map, treating\n"
@@ -86,8 +83,9 @@ const cli_spec cli_spec_heightmap = {
             "\n"
             "OUT is written to a temporary file next to it and renamed on success: a\n"
             "failure never leaves a partial file or replaces an old one. IN and OUT may\n"
-            "be the same file. \"-\" (a stream) is refused for both: images are read and\n"
-            "written as files by OpenImageIO.\n"
+            "be the same file. IN \"-\" reads standard input (any format OpenImageIO\n"
+            "reads from memory, found by its content); OUT \"-\" writes a PNG to standard\n"
+            "output (8 or 16 bits: --bits float with \"-\" is refused).\n"
             "\n"
             "Exit status: 0 success, 1 the output cannot be written (or out of memory),\n"
             "2 bad usage or an input that is missing, unreadable or not an image.\n"
@@ -95,22 +93,16 @@ const cli_spec cli_spec_heightmap = {
             "Examples:\n"
             "  bumpgrad heightmap diffuse.png normal.png --strength 2 --edge wrap\n"
             "  bumpgrad heightmap normal.png deriv.exr --to-derivative\n",
-    .args_size = sizeof(heightmap_args),
-    .defaults = heightmap_defaults,
     .max_positional = 2,
-    .run = run_heightmap,
-};
+);
 
 static int run_heightmap(void *args, const char *const *pos, int npos)
 {
     heightmap_args a = *(heightmap_args *)args;
     if (npos != 2)
         return cli_usage_error(CMD, "expected IN OUT (see bumpgrad heightmap --help)");
-    for (int k = 0; k < 2; k++)
-        if (strcmp(pos[k], "-") == 0)
-            return cli_usage_error(CMD, "\"-\" (standard %s) is not supported: OpenImageIO "
-                                        "reads and writes image files",
-                                   k ? "output" : "input");
+    if (a.json && strcmp(pos[1], "-") == 0)
+        return cli_usage_error(CMD, "--json writes to standard output: give OUT a file name");
     if (!isfinite(a.strength))
         return cli_usage_error(CMD, "--strength: must be finite");
     bgt_heightmap_opts opts = {.input = pos[0], .output = pos[1], .gray = (bgt_gray)a.gray,

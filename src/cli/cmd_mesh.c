@@ -43,6 +43,7 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
         cli_json_int(&j, "skipped_triangles", (long long)r->bake.skipped);
         cli_json_int(&j, "uv_islands", (long long)r->bake.islands);
         cli_json_int(&j, "overlap_texels", (long long)r->bake.overlap_texels);
+        cli_json_ints(&j, "tiles", r->bake.tile_udim, (int)r->bake.tiles);
         cli_json_close(&j);
     }
     cli_json_object(&j, "timing_s");
@@ -139,7 +140,9 @@ static const cli_opt mesh_opts_table[] = {
 static const cli_opt mesh_bake_table[] = {
     {.name = "bake-normal-map", .kind = CLI_KIND_STRING, .offset = A(bake_path),
      .metavar = "FILE", .help = "write a normal map (format from the extension, through "
-                                "OpenImageIO; OUT then optional)",
+                                "OpenImageIO; OUT then optional). FILE with `<UDIM>`: one map "
+                                "per UDIM tile (1001 + u + 10 v, at most 100 tiles; `--size` is "
+                                "per tile)",
      .flags = CLI_FILE},
     {.name = "size", .kind = CLI_KIND_CUSTOM, .offset = A(bake), .metavar = "N|WxH",
      .help = "map size in texels (required with the bake)", .parse = parse_size},
@@ -170,10 +173,7 @@ static const cli_opt mesh_table[] = {
 };
 #undef A
 
-static int run_mesh(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_mesh = {
-    .name = "mesh",
+CLI_SPEC(mesh,
     .summary = "bump the vertex normals of a mesh file (OBJ, PLY, STL, glTF, ...) or bake a "
                "normal map",
     .usage = "[options] IN [OUT.ply|OUT.glb|OUT.gltf|OUT.obj]",
@@ -206,11 +206,8 @@ const cli_spec cli_spec_mesh = {
             "  bumpgrad mesh --compare model.obj bumped.ply\n"
             "  bumpgrad mesh --function fbm --frequency 8 --amplitude 0.02 \\\n"
             "      --bake-normal-map normals.png --size 1024 model.ply\n",
-    .args_size = sizeof(mesh_args),
-    .defaults = mesh_defaults,
     .max_positional = 2,
-    .run = run_mesh,
-};
+);
 
 static int run_mesh(void *args, const char *const *pos, int npos)
 {
@@ -227,12 +224,19 @@ static int run_mesh(void *args, const char *const *pos, int npos)
         return cli_usage_error(cmd, "missing OUT.ply (or --bake-normal-map FILE)");
     if (bake_path && bake.width == 0)
         return cli_usage_error(cmd, "--bake-normal-map needs --size N (or WxH)");
+    if (bake_path && strcmp(bake_path, "-") == 0)
+        /* the mesh tool writes each map to a temporary file next to it */
+        return cli_usage_error(cmd, "--bake-normal-map -: standard output is not supported for "
+                                    "the map yet; give a file name");
     if (!bake_path && bake.width != 0)
         return cli_usage_error(cmd, "--size is for --bake-normal-map");
     bgt_mesh_opts opts = {.input = in_path, .output = out_path, .bake_path = bake_path,
                           .height = &a.h, .method = method, .compare = a.compare, .ascii = ascii,
                           .recompute_normals = a.recompute, .join = (unsigned)a.join,
                           .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth};
+    cli_progress prog;
+    bgt_progress sink = cli_progress_sink(&prog);
+    opts.progress = &sink;
     bgt_mesh_result r;
     bgt_err err;
     bg_status st = bgt_mesh_run(&opts, &r, &err);
@@ -243,7 +247,11 @@ static int run_mesh(void *args, const char *const *pos, int npos)
         return CLI_OK;
     }
     if (!cli_quiet()) {
-        FILE *fp = out_path && strcmp(out_path, "-") == 0 ? stderr : stdout;
+        /* a stream on stdout (the PLY or the map) keeps it for the data */
+        FILE *fp = (out_path && strcmp(out_path, "-") == 0) ||
+                           (bake_path && strcmp(bake_path, "-") == 0)
+                       ? stderr
+                       : stdout;
         fprintf(fp, "mesh: %s: %zu vertices, %zu triangles (%zu scene meshes", in_path,
                 r.vertex_count, r.triangle_count, r.mesh_count);
         if (r.dropped_primitives)
@@ -284,6 +292,12 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                         "or more triangles; the later triangle wins)%s\n",
                     r.bake.islands, r.bake.overlap_islands, r.bake.overlap_texels,
                     r.bake.overlap_islands ? " WARNING: overlapping UVs" : "");
+        if (bake_path && strstr(bake_path, MESH_UDIM_TOKEN)) {
+            fprintf(fp, "%zu tiles written:", r.bake.tiles);
+            for (size_t k = 0; k < r.bake.tiles; k++)
+                fprintf(fp, "%s %d", k ? "," : "", r.bake.tile_udim[k]);
+            fprintf(fp, "\n");
+        }
         if (out_path)
             fprintf(fp, "wrote %s (%s)\n", out_path,
                     mesh_out_format_name(mesh_out_format_of(out_path), ascii));

@@ -43,10 +43,7 @@ static const cli_opt perturb_opts[] = {
 };
 #undef A
 
-static int run_perturb(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_perturb = {
-    .name = "perturb",
+CLI_SPEC(perturb,
     .summary = "bump surface normals from a CSV table (surface gradient or additive)",
     .usage = "[options] --input IN.csv --output OUT.csv",
     .about =
@@ -74,10 +71,7 @@ const cli_spec cli_spec_perturb = {
             "  bumpgrad perturb -i surface.csv -o bumped.csv\n"
             "  bumpgrad perturb --method additive --amplitude 0.5 -i surface.csv -o add.csv\n"
             "  printf 'x,y,z,nx,ny,nz\\n0.3,0.2,0.1,0,0,1\\n' | bumpgrad perturb -i - -o -\n",
-    .args_size = sizeof(perturb_args),
-    .defaults = perturb_defaults,
-    .run = run_perturb,
-};
+);
 
 static int run_perturb(void *args, const char *const *pos, int npos)
 {

@@ -214,8 +214,13 @@ static const cli_opt render_opts_table[] = {
     {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = O(output),
      .metavar = "FILE", .help = "the image (required): .png (8-bit sRGB) or .exr (32-bit float, "
                                 "linear); also .tif/.hdr (float, linear), .jpg/.ppm/.bmp/.tga "
-                                "(8-bit sRGB)",
+                                "(8-bit sRGB); - for standard output (--format, the report then on stderr)",
      .flags = CLI_FILE | CLI_NO_DEFAULT, .complete_ext = "png|exr|tif|hdr|jpg|ppm|bmp|tga"},
+    {.name = "format", .kind = CLI_KIND_STRING, .offset = O(format), .metavar = "EXT",
+     .help = "the format of -o - (standard output): png (the default), exr, tif, hdr, jpg, "
+             "ppm, bmp or tga; with a file output the extension decides, and a --format that "
+             "disagrees with it is an error",
+     .flags = CLI_NO_DEFAULT},
     {.name = "method", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "M",
      .help = "perturbation method (see above)", .parse = parse_method, .format = format_method},
     {.name = "compare", .kind = CLI_KIND_CUSTOM, .offset = A(o), .metavar = "M1,M2,..",
@@ -292,10 +297,7 @@ static const cli_opt render_opts_table[] = {
 #undef A
 #undef O
 
-static int run_render(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_render = {
-    .name = "render",
+CLI_SPEC(render,
     .summary = "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
     .usage = "[options] --output FILE.png|FILE.exr\n"
              "--preset fig1|fig2|fig3|fig4 --output FILE.png\n"
@@ -340,10 +342,7 @@ const cli_spec cli_spec_render = {
             "Examples:\n"
             "  bumpgrad render --preset fig2 --output fig2.png\n"
             "  bumpgrad render --compare surfgrad,listing1,additive --size 256x256 -o cmp.png\n",
-    .args_size = sizeof(render_args),
-    .defaults = render_defaults,
-    .run = run_render,
-};
+);
 
 
 static void print_json(const render_opts *o, const render_result *r, double seconds)
@@ -401,6 +400,11 @@ static int run_render(void *args, const char *const *pos, int npos)
     render_opts o = a->o;
     if (!o.output)
         return cli_usage_error(CMD, "--output FILE is required (.png or .exr)");
+    const int to_stdout = strcmp(o.output, "-") == 0;
+    if (a->json && to_stdout)
+        return cli_usage_error(CMD, "--json writes to standard output: give --output a file");
+    /* the image owns standard output: the report goes to stderr */
+    FILE *fp = to_stdout ? stderr : stdout;
     bgt_err err;
     bg_status s = bgt_height_open(&o.h, &err);
     if (s != BG_OK)
@@ -422,30 +426,30 @@ static int run_render(void *args, const char *const *pos, int npos)
     }
     const bg_height *h = &o.h.h;
     if (o.mesh_path)
-        printf("render mesh=%s triangles=%zu", o.mesh_path, r.triangles);
+        fprintf(fp, "render mesh=%s triangles=%zu", o.mesh_path, r.triangles);
     else
-        printf("render scene=%s", render_shape_name(o.shape));
+        fprintf(fp, "render scene=%s", render_shape_name(o.shape));
     if (!o.mesh_path && o.shape != RENDER_SPHERE)
-        printf(" grid=%d triangles=%zu", o.grid, r.triangles);
-    printf(" size=%dx%d spp=%d function=%s octaves=%d frequency=%g amplitude=%g\n", o.width,
-           o.height, o.ss * o.ss, cli_function_name(h->fractal.function), h->fractal.octaves,
-           (double)h->frequency, (double)h->amplitude);
+        fprintf(fp, " grid=%d triangles=%zu", o.grid, r.triangles);
+    fprintf(fp, " size=%dx%d spp=%d function=%s octaves=%d frequency=%g amplitude=%g\n", o.width,
+            o.height, o.ss * o.ss, cli_function_name(h->fractal.function), h->fractal.octaves,
+            (double)h->frequency, (double)h->amplitude);
     if (o.mesh_path || o.tracer != TRACER_AUTO)
-        printf("timing tracer=%s load_s=%.3f build_s=%.4f render_s=%.3f%s%s\n", r.tracer,
-               r.load_seconds, r.build_seconds, r.render_seconds, r.textures[0] ? " textures:" : "",
-               r.textures);
+        fprintf(fp, "timing tracer=%s load_s=%.3f build_s=%.4f render_s=%.3f%s%s\n", r.tracer,
+                r.load_seconds, r.build_seconds, r.render_seconds, r.textures[0] ? " textures:" : "",
+                r.textures);
     for (int m = 0; m < r.nmethods; m++)
-        printf("stats %s%.*s%smethod=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
-               r.labels[m] ? "panel=" : "", r.labels[m] ? 1 : 0, &"abcdef"[m < 6 ? m : 0],
-               r.labels[m] ? " " : "", render_method_name(r.methods[m]), r.stats[m].mean_deg, r.stats[m].p99_deg,
-               r.stats[m].max_deg, r.stats[m].inward_fraction, r.stats[m].hits);
-    printf("wrote %s %dx%d\n", o.output, r.out_width, r.out_height);
+        fprintf(fp, "stats %s%.*s%smethod=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
+                r.labels[m] ? "panel=" : "", r.labels[m] ? 1 : 0, &"abcdef"[m < 6 ? m : 0],
+                r.labels[m] ? " " : "", render_method_name(r.methods[m]), r.stats[m].mean_deg, r.stats[m].p99_deg,
+                r.stats[m].max_deg, r.stats[m].inward_fraction, r.stats[m].hits);
+    fprintf(fp, "wrote %s %dx%d\n", o.output, r.out_width, r.out_height);
     for (int k = 0; k < r.nsweep; k++) {
         const render_sweep_row *w = &r.sweep[k];
-        printf("sweep method=%s density=%g size=%dx%d spp=%d mean_deg=%.4f p99_deg=%.4f "
-               "max_deg=%.4f inward=%.6f hits=%zu\n",
-               render_method_name(w->method), w->density, w->width, w->height, w->spp,
-               w->st.mean_deg, w->st.p99_deg, w->st.max_deg, w->st.inward_fraction, w->st.hits);
+        fprintf(fp, "sweep method=%s density=%g size=%dx%d spp=%d mean_deg=%.4f p99_deg=%.4f "
+                "max_deg=%.4f inward=%.6f hits=%zu\n",
+                render_method_name(w->method), w->density, w->width, w->height, w->spp,
+                w->st.mean_deg, w->st.p99_deg, w->st.max_deg, w->st.inward_fraction, w->st.hits);
     }
 verdict:
     /* A sweep that failed after the image was written: the image stands, the

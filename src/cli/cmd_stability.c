@@ -35,10 +35,7 @@ static const cli_opt stability_opts[] = {
 };
 #undef A
 
-static int run_stability(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_stability = {
-    .name = "stability",
+CLI_SPEC(stability,
     .summary = "sweeps where bump methods fail: markdown report, CSVs, charts",
     .usage = "[--out DIR] [--samples N] [--no-chart]",
     .about =
@@ -51,10 +48,7 @@ const cli_spec cli_spec_stability = {
         "  5. Listing 1 at grazing angles, as det -> 0, across silhouettes\n"
         "  6. degenerate inputs (zero, NaN, Inf, non-unit normals, huge gradients)\n",
     .opts = stability_opts,
-    .args_size = sizeof(stability_args),
-    .defaults = stability_defaults,
-    .run = run_stability,
-};
+);
 
 static void on_wrote(void *ctx, const char *path)
 {

@@ -116,10 +116,7 @@ static const cli_opt volume_opts[] = {
 };
 #undef A
 
-static int run_volume(void *args, const char *const *pos, int npos);
-
-const cli_spec cli_spec_volume = {
-    .name = "volume",
+CLI_SPEC(volume,
     .summary = "bake a height function and its gradient into an OpenVDB file",
     .usage = "[--bbox X0,Y0,Z0,X1,Y1,Z1] [--voxel-size S] [height options]\n"
              "[--band-sphere CX,CY,CZ,R,W] --output FILE.vdb",
@@ -138,10 +135,7 @@ const cli_spec cli_spec_volume = {
             "Example:\n"
             "  bumpgrad volume --function fbm --octaves 4 --bbox -1,-1,-1,1,1,1 \\\n"
             "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n",
-    .args_size = sizeof(volume_args),
-    .defaults = volume_defaults,
-    .run = run_volume,
-};
+);
 
 static int run_volume(void *args, const char *const *pos, int npos)
 {

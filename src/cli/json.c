@@ -106,6 +106,15 @@ void cli_json_bool(cli_json *j, const char *k, int v)
     fputs(v ? "true" : "false", j->fp);
 }
 
+void cli_json_ints(cli_json *j, const char *k, const int *v, int n)
+{
+    key(j, k);
+    fputc('[', j->fp);
+    for (int i = 0; i < n; i++)
+        fprintf(j->fp, "%s%d", i ? ", " : "", v[i]);
+    fputc(']', j->fp);
+}
+
 void cli_json_nums(cli_json *j, const char *k, const double *v, int n)
 {
     key(j, k);

@@ -25,6 +25,7 @@ void cli_json_num(cli_json *j, const char *key, double v);
 void cli_json_float(cli_json *j, const char *key, float v); /* %.9g: reads back exactly */
 void cli_json_int(cli_json *j, const char *key, long long v);
 void cli_json_bool(cli_json *j, const char *key, int v);
+void cli_json_ints(cli_json *j, const char *key, const int *v, int n);
 void cli_json_nums(cli_json *j, const char *key, const double *v, int n);
 /* Shared blocks of the commands' statistics: "command", "version", "isa",
  * "isa_best", "seconds" (util.c); the height parameters as an object (heightopt.c). */

@@ -153,7 +153,8 @@ static const char *unit_of(const char *label)
     static const struct {
         const char *label, *unit;
     } units[] = {{"eval", "bytes"},      {"perturb", "bytes"}, {"render", "tiles"},
-                 {"baking rows", "rows"}, {"accuracy", "steps"}, {"stability", "sweeps"}};
+                 {"baking rows", "rows"}, {"accuracy", "steps"}, {"stability", "sweeps"},
+                 {"bake", "texels"}};
     for (size_t k = 0; k < sizeof units / sizeof units[0]; k++)
         if (label && strcmp(label, units[k].label) == 0)
             return units[k].unit;

@@ -162,8 +162,9 @@ def tools():
         check(rc == 0 and so == "" and err == "", "volume -q prints nothing: %r %r" % (so, err))
         rc, so, err = run(["volume", "-o", "-"])
         check(rc == 2 and "stream" in err, "volume -o - refused: %r" % err)
-        rc, so, err = run(["heightmap", "-", os.path.join(d, "n.png")])
-        check(rc == 2 and "not supported" in err, "heightmap - refused: %r" % err)
+        rc, so, err = run(["heightmap", "-", os.path.join(d, "n.png")], b"not an image")
+        check(rc == 2 and "not supported" not in err and "error" in err,
+              "heightmap - reads stdin (garbage there is bad input): %r" % err)
         rc, so, err = run(["volume", "--json", "--voxel-size", "0.25", "--band-sphere",
                            "0,0,0,0.5,0.25", "--function=fbm", "-o", out])
         j = json_check(so, "volume --json")

@@ -711,6 +711,20 @@ def group_udim(tmp):
         seen.append(got)
     check(not any(np.array_equal(seen[i], seen[j]) for i in range(3) for j in range(i)),
           "the three tiles hold different patches")
+    # The command line's view of the tiles: --json lists them, the summary
+    # names them, --progress on a pipe reports the bake in texels.
+    p = run([src, "--json", "--bake-normal-map", os.path.join(out, "j.<UDIM>.png"),
+             "--size", "16x8"], 0)
+    doc = json.loads(p.stdout) if p.returncode == 0 else {}
+    check(doc.get("bake", {}).get("tiles") == [1001, 1002, 1011],
+          "--json: bake.tiles lists the UDIM tiles written (%s)" % doc.get("bake"))
+    p = run([src, "--progress", "--bake-normal-map", os.path.join(out, "t.<UDIM>.png"),
+             "--size", "16x8"], 0)
+    check(p.returncode == 0 and "3 tiles written: 1001, 1002, 1011" in p.stdout,
+          "the summary names the tiles written")
+    check(re.search(r"^bake: .*texels", p.stderr, re.M) is not None
+          and "bake: done, %d texels" % (3 * 16 * 8) in p.stderr,
+          "--progress on a pipe: bake progress lines in texels (%r)" % p.stderr[-300:])
     one = os.path.join(tmp, "one.ply")
     udim_mesh(one, [(0, 0)])
     d1 = os.path.join(tmp, "one")

@@ -29,11 +29,15 @@ static void lower_ext(const char *path, char *out, size_t len)
 }
 
 /* Formats that store only 8 bits or at most 16: OpenImageIO would silently
- * narrow a wider request, so refuse it here. Unknown formats are allowed. */
+ * narrow a wider request, so refuse it here. Unknown formats are allowed.
+ * "-" (standard output) is written as PNG by bg_image_write. */
 static int max_bits_for(const char *path)
 {
     char e[16];
-    lower_ext(path, e, sizeof e);
+    if (strcmp(path, "-") == 0)
+        strcpy(e, "png");
+    else
+        lower_ext(path, e, sizeof e);
     static const char *const eight[] = {"jpg", "jpeg", "bmp", "tga", "gif", "webp", "ico"};
     static const char *const sixteen[] = {"png", "ppm", "pgm", "pnm", "sgi", "rgb", "jp2"};
     for (size_t i = 0; i < sizeof eight / sizeof eight[0]; i++)

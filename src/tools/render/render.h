@@ -202,6 +202,10 @@ typedef struct render_opts {
     int closeup; /* magnification of the close-up row, 0 = none */
     int sweep;   /* print the error against pixel density */
     const char *output;
+    /* The image format (an extension without the dot: "png", "exr", ...) of
+     * output "-" (standard output); NULL = png. With a file name the extension
+     * decides and a format that disagrees with it is refused. */
+    const char *format;
     render_preset preset;
     render_tracer tracer;
     /* A mesh file (any format assimp reads) instead of the built-in scenes,

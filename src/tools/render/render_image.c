@@ -112,7 +112,8 @@ static const char *extension(const char *path)
 
 /* A writable folder is checked before rendering so that a long render does not
  * end in an I/O error; bg_image_write still reports any later failure. */
-static bg_status check_output(const char *path, bg_pixel_type *type, int *srgb, bgt_err *e)
+static bg_status check_output(const char *path, const char *format, bg_pixel_type *type,
+                              int *srgb, bgt_err *e)
 {
     /* The bit depth each format holds sensibly: float (linear) where the format
      * stores floats, 8-bit sRGB for the display formats. */
@@ -125,15 +126,34 @@ static bg_status check_output(const char *path, bg_pixel_type *type, int *srgb, 
                    {".hdr", BG_PIXEL_F32, 0}, {".jpg", BG_PIXEL_U8, 1},
                    {".jpeg", BG_PIXEL_U8, 1}, {".ppm", BG_PIXEL_U8, 1},
                    {".bmp", BG_PIXEL_U8, 1},  {".tga", BG_PIXEL_U8, 1}};
-    const char *ext = extension(path);
+    int to_stdout = strcmp(path, "-") == 0;
+    char fmt_ext[16] = ".png";
+    if (format && *format == '.')
+        format++;
+    if (format && (strlen(format) + 2 > sizeof fmt_ext || !*format))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--format: \"%s\": not an image format",
+                        format);
+    if (format)
+        snprintf(fmt_ext, sizeof fmt_ext, ".%s", format);
+    const char *ext = to_stdout ? fmt_ext : extension(path);
+    if (!to_stdout && format && strcasecmp(ext, fmt_ext) != 0)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--format %s disagrees with the extension of --output \"%s\" (the "
+                        "extension decides; --format is for --output -)", format, path);
     size_t k = 0, nf = sizeof formats / sizeof formats[0];
     while (k < nf && strcasecmp(ext, formats[k].ext) != 0)
         k++;
+    if (k == nf && to_stdout)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--format: \"%s\": expected png or exr (or tif, hdr, jpg, ppm, bmp, "
+                        "tga)", format);
     if (k == nf)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         "--output: \"%s\": expected a .png or .exr file name (or .tif, .hdr, "
                         ".jpg, .ppm, .bmp, .tga)", path);
     *type = formats[k].type, *srgb = formats[k].srgb;
+    if (to_stdout) /* no folder to check: bg_image_write_as reports a bad stream */
+        return BG_OK;
     char *dir = malloc(strlen(path) + 2);
     if (!dir)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
@@ -467,11 +487,11 @@ static bg_status compose_fig4(const render_job *full, const render_job *close,
     return BG_OK;
 }
 
-static bg_status write_image(const char *path, const bg_image *img, bg_pixel_type type, int srgb,
-                             bgt_err *e)
+static bg_status write_image(const char *path, const char *format, const bg_image *img,
+                             bg_pixel_type type, int srgb, bgt_err *e)
 {
     char err[512];
-    bg_status rc = bg_image_write(path, img, type, srgb, err, sizeof err);
+    bg_status rc = bg_image_write_as(path, format, img, type, srgb, err, sizeof err);
     if (rc != BG_OK)
         /* Any write failure is a failed run (exit 1), whatever the shim says. */
         return bgt_fail(e, rc == BG_ERR_OUT_OF_MEMORY ? rc : BG_ERR_IO, "%s", err);
@@ -485,7 +505,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
     bg_status rc;
     memset(r, 0, sizeof *r);
     render_opts oo = *o_in, *o = &oo;
-    if ((rc = check_output(o->output, &type, &srgb, e)) != BG_OK)
+    if ((rc = check_output(o->output, o->format, &type, &srgb, e)) != BG_OK)
         return rc;
     for (int m = 0; m < o->nmethods; m++)
         if (render_method_textured(o->methods[m]) && !o->mesh_path)
@@ -674,7 +694,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
         img.width = job.width, img.height = job.height_px, img.pixels = job.rgb[0];
     }
     img.channels = 3;
-    if ((rc = write_image(o->output, &img, type, srgb, e)) != BG_OK)
+    if ((rc = write_image(o->output, o->format, &img, type, srgb, e)) != BG_OK)
         goto done;
     r->out_width = img.width, r->out_height = img.height;
     if (o->sweep)

@@ -1,0 +1,124 @@
+# SPDX-License-Identifier: MIT
+"""Images on "-": `render -o -` and `heightmap - -` stream through OpenImageIO's
+memory I/O (bg_image_write_as / bg_image_read_as), the report moves to stderr,
+a closed pipe is a clean exit 1, and the refusals (--json with -o -, --bits
+float with a PNG stream, a --format against the extension) are exit 2 naming
+the reason. The PNGs are decoded here with zlib, independently of the command.
+usage: test_image_stream.py BUMPGRAD"""
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+import zlib
+
+EXE = sys.argv[1]
+FAILS = []
+
+
+def check(cond, what):
+    print(("ok: " if cond else "FAIL: ") + what)
+    if not cond:
+        FAILS.append(what)
+
+
+def run(args, stdin=None):
+    env = dict(os.environ, BUMPGRAD_NO_PROGRESS="1")
+    p = subprocess.run([EXE] + args, input=stdin, capture_output=True, env=env, timeout=120)
+    return p.returncode, p.stdout, p.stderr.decode(errors="replace")
+
+
+def png_decode(data):
+    """(width, height, channels, bit depth, raw scanline bytes) of a PNG, or None."""
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        return None
+    pos, ihdr, idat = 8, None, b""
+    while pos + 8 <= len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            ihdr = struct.unpack(">IIBB", body[:10])
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            break
+        pos += 12 + n
+    if not ihdr:
+        return None
+    w, h, depth, ctype = ihdr
+    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(ctype, 0)
+    return w, h, channels, depth, zlib.decompress(idat)
+
+
+def decodes(png, w, h):
+    d = png_decode(png)
+    if not d:
+        return False
+    dw, dh, ch, depth, raw = d
+    return (dw, dh) == (w, h) and ch > 0 and len(raw) == h * (1 + w * ch * depth // 8)
+
+
+# render -o - --format png: a complete PNG of the asked size on stdout, the
+# report lines on stderr.
+rc, out, err = run(["render", "--size", "16x12", "-o", "-", "--format", "png"])
+check(rc == 0 and decodes(out, 16, 12),
+      "render -o - --format png: a 16x12 PNG on stdout (rc %d, %r)" % (rc, out[:24]))
+check("wrote - 16x12" in err and "stats " in err, "the report goes to stderr: %r" % err)
+rc, out2, err = run(["render", "--size", "16x12", "-o", "-"])
+check(rc == 0 and out2 == out, "-o - without --format is the same PNG")
+rc, out, err = run(["render", "--size", "16x12", "-o", "-", "--format", "exr"])
+check(rc == 0 and out[:4] == b"\x76\x2f\x31\x01", "-o - --format exr: OpenEXR magic: %r" % out[:4])
+# A file output still reports on stdout and the extension decides.
+with tempfile.TemporaryDirectory() as d:
+    f = os.path.join(d, "r.png")
+    rc, out, err = run(["render", "--size", "8x8", "-o", f])
+    check(rc == 0 and b"wrote " + f.encode() in out, "a file output reports on stdout")
+    rc, out, err = run(["render", "--size", "8x8", "-o", f, "--format", "exr"])
+    check(rc == 2 and "--format exr disagrees" in err, "--format against the extension: %r" % err)
+rc, out, err = run(["render", "--size", "8x8", "-o", "-", "--format", "sgi2"])
+check(rc == 2 and "--format" in err and out == b"", "an unknown --format: exit 2: %r" % err)
+rc, out, err = run(["render", "--size", "8x8", "-o", "-", "--json"])
+check(rc == 2 and "--json" in err and out == b"", "--json with -o - refused, exit 2: %r" % err)
+
+# A reader that closes the pipe early: exit 1 with a message, no signal death.
+p = subprocess.run(["bash", "-c", '"$0" render --size 512x512 -o - --format exr 2>"$1" | '
+                    'head -c 10 >/dev/null; echo "${PIPESTATUS[0]}"', EXE, os.devnull],
+                   capture_output=True, text=True, timeout=120,
+                   env=dict(os.environ, BUMPGRAD_NO_PROGRESS="1"))
+check(p.stdout.strip() == "1", "render -o - | head -c 10: exit 1 (got %r)" % p.stdout.strip())
+p = subprocess.run(["bash", "-c", '{ "$0" render --size 512x512 -o - --format exr | '
+                    'head -c 10 >/dev/null; } 2>&1', EXE], capture_output=True, text=True,
+                   timeout=120, env=dict(os.environ, BUMPGRAD_NO_PROGRESS="1"))
+check("Broken pipe" in p.stdout and "error" in p.stdout,
+      "the closed pipe is named: %r" % p.stdout.strip()[-200:])
+
+# heightmap - -: a PNG on stdin to a PNG of the same size on stdout.
+rc, src, err = run(["render", "--size", "24x20", "-o", "-"])
+rc, out, err = run(["heightmap", "-", "-", "--strength", "2"], src)
+check(rc == 0 and decodes(out, 24, 20), "heightmap - -: a 24x20 PNG in, a 24x20 PNG out (rc %d, %r)"
+      % (rc, err))
+with tempfile.TemporaryDirectory() as d:
+    f = os.path.join(d, "in.png")
+    open(f, "wb").write(src)
+    ref = os.path.join(d, "ref.png")
+    rc2, _, _ = run(["heightmap", f, ref, "--strength", "2"])
+    check(rc == 0 and rc2 == 0 and png_decode(open(ref, "rb").read())[4] == png_decode(out)[4],
+          "heightmap - - gives the same pixels as with files")
+rc, out, err = run(["heightmap", "--bits", "16", "-", "-"], src)
+d = png_decode(out) if rc == 0 else None
+check(d is not None and d[3] == 16 and decodes(out, 24, 20), "heightmap --bits 16 -: a 16-bit PNG")
+rc, out, err = run(["heightmap", "--bits", "float", "-", "-"], src)
+check(rc == 2 and "float" in err and out == b"",
+      "--bits float with OUT - (a PNG) refused, exit 2: %r" % err)
+rc, out, err = run(["heightmap", "--json", "-", "-"], src)
+check(rc == 2 and "--json" in err and out == b"", "heightmap --json with OUT - refused: %r" % err)
+rc, out, err = run(["heightmap", "-", "-"], b"not an image")
+check(rc == 2 and out == b"" and "error" in err, "garbage on stdin: exit 2: %r" % err)
+
+# mesh --bake-normal-map -: refused with the reason until the mesh tool can
+# stream its map (the option is checked before the mesh is opened).
+rc, out, err = run(["mesh", "no_such.ply", "--bake-normal-map", "-", "--size", "8"])
+check(rc == 2 and "standard output is not supported" in err and out == b"",
+      "mesh --bake-normal-map - refused clearly, exit 2: %r" % err)
+
+sys.exit(1 if FAILS else 0)
