@@ -345,9 +345,10 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
         if (r < 0 && errno != EINTR)
             return BG_OK;
         if (waited_ms >= 1000 * static_cast<int>(timeout) + 1000) {
+            // The status stays the child's (killed by SIGKILL): a time-out must
+            // never fall through to reading the file in-process, without limits.
             ::kill(pid, SIGKILL);
             ::waitpid(pid, &status, 0);
-            status = 0;
             break;
         }
         struct timespec ts = {0, 10 * 1000 * 1000};
@@ -368,6 +369,14 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
         bg_io_set_error(err, errlen,
                         "'%s': reading the VDB file needs more memory than a file of this size "
                         "should (corrupt counts?); set BUMPGRAD_VDB_MAX_MB to allow more", path);
+        return BG_ERR_FORMAT;
+    }
+    // 0: the file reads; 3: a clean error, which the parent reproduces with its
+    // message. Any other status (an abort in a library, an allocator giving up)
+    // is a failed probe, never a reason to read the file in-process.
+    if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 3)) {
+        bg_io_set_error(err, errlen, "'%s': corrupt VDB file (reading it failed with status %d)",
+                        path, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
         return BG_ERR_FORMAT;
     }
     return BG_OK;
