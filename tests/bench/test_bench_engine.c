@@ -89,11 +89,12 @@ static void check_grid_rows(void)
         const float *w = want + (k ? total : 0);
         size_t bad = 0;
         for (size_t i = 0; i < n; i++) {
-            bad += memcmp(&d.v[i], &w[i], sizeof(float)) != 0;
+            int differ = memcmp(&d.v[i], &w[i], sizeof(float)) != 0;
             if (k)
-                bad += memcmp(&d.ox[i], &want[2 * total + i], sizeof(float)) != 0 ||
-                       memcmp(&d.oy[i], &want[3 * total + i], sizeof(float)) != 0 ||
-                       memcmp(&d.oz[i], &want[4 * total + i], sizeof(float)) != 0;
+                differ |= memcmp(&d.ox[i], &want[2 * total + i], sizeof(float)) != 0 ||
+                          memcmp(&d.oy[i], &want[3 * total + i], sizeof(float)) != 0 ||
+                          memcmp(&d.oz[i], &want[4 * total + i], sizeof(float)) != 0;
+            bad += differ;
         }
         CHECK(bad == 0, "%s: %zu of %zu samples differ from one grid call",
               bgt_bench_kernel_name((size_t)j.kernel), bad, n);
