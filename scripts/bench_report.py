@@ -12,6 +12,12 @@ import sys
 OURS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_grad_central",
         "perturb_surfgrad", "perturb_additive", "perturb_height"]
 ISA_ORDER = ["scalar", "sse2", "avx2", "avx512", "neon"]
+# Rows that call the public per-point and grid functions (one ISA: the active
+# one), with the stb_perlin operation each is set against.
+PUBLIC_PEER_OP = {"noise3_point": "value", "noise3_grad_point": "grad_central",
+                  "fbm3_point": "fbm", "fbm3_grad_point": "fbm",
+                  "noise3_grid": "value", "fbm3_grid": "fbm", "fbm3_grad_grid": "fbm"}
+PUBLIC = list(PUBLIC_PEER_OP)
 # Kernels whose cost is arithmetic and gathers, not memory traffic: the thread
 # scaling target is judged on these (perturb_* stream 36 bytes per sample and
 # measure the memory system at two threads, reported but not judged).
@@ -119,6 +125,28 @@ def main():
                 k, r["isa"], fmt(r["msamples_per_s"]), op, bp["kernel"].split(":")[1],
                 fmt(bp["msamples_per_s"], 2), r["msamples_per_s"] / bp["msamples_per_s"],
                 "%.2fx" % (r["msamples_per_s"] / stb["msamples_per_s"]) if stb else "-"))
+        out.append("")
+
+    # Rows through the public API (per-point and grid calls): one ISA, the
+    # active one; set against stb_perlin per point by CPU time, the figure a
+    # loaded machine does not inflate (cpu_ns_per_sample).
+    public = [r for r in rows if r["threads"] == 1 and r["kernel"] in PUBLIC]
+    if public:
+        out.append("**Per-point and grid calls (public API, active ISA, one thread)**")
+        out.append("")
+        out.append("| kernel | isa | M/s | CPU ns/sample | instructions/sample | stb_perlin "
+                   "operation | CPU time / stb_perlin's |")
+        out.append("|---|---|---:|---:|---:|---|---:|")
+        for r in sorted(public, key=lambda r: PUBLIC.index(r["kernel"])):
+            op = PUBLIC_PEER_OP[r["kernel"]]
+            stb = by.get(("peer:stb_perlin:%s" % op, "baseline", 1))
+            ratio = "-"
+            if stb and stb.get("cpu_ns_per_sample") and r.get("cpu_ns_per_sample"):
+                ratio = "%.2fx" % (r["cpu_ns_per_sample"] / stb["cpu_ns_per_sample"])
+            ic = r.get("instructions_per_sample")
+            out.append("| `%s` | %s | %s | %s | %s | %s | %s |" % (
+                r["kernel"], r["isa"], fmt(r["msamples_per_s"], 2),
+                fmt(r.get("cpu_ns_per_sample")), "-" if ic is None else "%g" % ic, op, ratio))
         out.append("")
 
     # Targets of the issue.

@@ -10,7 +10,8 @@
 #       each row of `bumpgrad bench` (one thread): (Ir(--runs 3) - Ir(--runs 1)) /
 #       (2 SAMPLES), so data set-up and warm-up cancel. Prints "<kernel> <isa>
 #       <instructions>" lines, the format of `bumpgrad bench --icount FILE`.
-#       KERNELS defaults to every row of ours and stb_perlin's peers.
+#       KERNELS defaults to every row of ours and stb_perlin's peers; per-point and
+#       grid rows are measured once, at the active ISA (ISAS do not apply to them).
 #   e.g. scripts/kernel_icount.sh --bench build/src/cli/bumpgrad > icount.txt
 #        build/src/cli/bumpgrad bench --json --icount icount.txt
 ir() {
@@ -20,11 +21,25 @@ ir() {
 if [ "$1" = "--bench" ]; then
     exe=$2
     isas=${3:-"scalar sse2 avx2"}
-    kernels=${4:-"noise3 noise3_grad fbm3 fbm3_grad turbulence3_grad noise3_point noise3_grad_point fbm3_point fbm3_grad_point noise3_n1 noise3_n4 noise3_n8 noise3_n16 noise3_n64 noise3_n256"}
+    kernels=${4:-"noise3 noise3_grad fbm3 fbm3_grad turbulence3_grad noise3_point noise3_grad_point fbm3_point fbm3_grad_point noise3_n1 noise3_n4 noise3_n8 noise3_n16 noise3_n64 noise3_n256 noise3_grid fbm3_grid fbm3_grad_grid"}
     n=${5:-16384}
+    # The per-point and grid rows call the public entry points, which run at the
+    # active ISA: measured once, without --isa, at the level the row reports
+    # under valgrind (BUMPGRAD_ISA caps it; valgrind has no AVX-512).
+    tmp=$(mktemp -d) || exit 1
+    trap 'rm -rf "$tmp"' EXIT
     for k in $kernels; do
+        case $k in
+        *_point | *_grid)
+            a=$(ir "$exe" bench --threads 1 --kernels "$k" --samples "$n" --runs 1)
+            b=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null --log-file="$tmp/log" \
+                "$exe" bench --threads 1 --kernels "$k" --samples "$n" --runs 3 --json \
+                >"$tmp/json" && sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$tmp/log")
+            isa=$(sed -n 's/.*"isa": "\([a-z0-9]*\)".*/\1/p' "$tmp/json" | head -n 1)
+            echo "$k $isa $(( (b - a) / (2 * n) ))"
+            continue ;;
+        esac
         for isa in $isas; do
-            case $k in *_point) [ "$isa" = scalar ] || continue ;; esac
             a=$(ir "$exe" bench --threads 1 --isa "$isa" --kernels "$k" --samples "$n" --runs 1)
             b=$(ir "$exe" bench --threads 1 --isa "$isa" --kernels "$k" --samples "$n" --runs 3)
             echo "$k $isa $(( (b - a) / (2 * n) ))"

@@ -79,8 +79,10 @@ static const cli_opt bench_opts[] = {
      .help = "comma-separated subset: noise3, noise3_grad, fbm3_grad, turbulence3_grad, "
              "turbulence3_grad_central, perturb_surfgrad, perturb_additive, perturb_height, "
              "fbm3, noise3_point, noise3_grad_point, fbm3_point, fbm3_grad_point (per-point "
-             "calls, scalar kernel), noise3_n1, noise3_n4, noise3_n8, noise3_n16, noise3_n64, "
-             "noise3_n256 (batch calls of that many points), ours, peers, peer:<library>, "
+             "calls, at the active ISA or --isa), noise3_n1, noise3_n4, noise3_n8, noise3_n16, "
+             "noise3_n64, noise3_n256 (batch calls of that many points), noise3_grid, "
+             "fbm3_grid, fbm3_grad_grid (grid calls on a 128 x 128 x k lattice of the same "
+             "sample count, step 1/8, at the active ISA or --isa), ours, peers, peer:<library>, "
              "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm)"},
     {.name = "icount", .kind = CLI_KIND_STRING, .offset = A(icount), .metavar = "FILE",
      .help = "instructions per sample to put in the JSON, lines of \"<kernel> <isa> "

@@ -10,7 +10,8 @@ import sys
 KERNELS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_grad_central",
            "perturb_surfgrad", "perturb_additive", "perturb_height", "fbm3",
            "noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point",
-           "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256"]
+           "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256",
+           "noise3_grid", "fbm3_grid", "fbm3_grad_grid"]
 failures = 0
 
 
@@ -42,6 +43,14 @@ def main():
         got = sorted((r["kernel"], r["isa"], r["threads"], r["samples"], r["runs"]) for r in rows)
         check(got == [("fbm3_point", "scalar", 1, 2048, 1), ("noise3", "scalar", 1, 2048, 1)],
               "exactly the rows asked for: %r" % (got,))
+    # --isa also moves the public-call rows (per-point, grid) to that ISA.
+    rc, out, err = run(exe, ["--samples=3000", "--runs=1", "--threads=1", "--isa=scalar",
+                             "--kernels=noise3_grid,fbm3_grad_grid,noise3_grad_point", "--json"])
+    check(rc == 0, "grid rows run (%d %r)" % (rc, err))
+    if rc == 0:
+        got = sorted((r["kernel"], r["isa"], r["samples"]) for r in json.loads(out))
+        check(got == [("fbm3_grad_grid", "scalar", 3000), ("noise3_grad_point", "scalar", 3000),
+                      ("noise3_grid", "scalar", 3000)], "grid rows at --isa: %r" % (got,))
     for args, needle in ((["--runs", "0"], "--runs"), (["--samples=0"], "--samples"),
                          (["--threads", "x"], "--threads"), (["--isa", "bogus"], "--isa"),
                          (["--kernels", "nope"], "--kernels"),

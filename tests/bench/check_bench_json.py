@@ -14,9 +14,13 @@ import tempfile
 OURS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_grad_central",
         "perturb_surfgrad", "perturb_additive", "perturb_height", "fbm3",
         "noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point",
-        "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256"]
-# Per-point rows run the scalar kernel whatever the ISA: one row per thread count.
-POINT = {"noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point"}
+        "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256",
+        "noise3_grid", "fbm3_grid", "fbm3_grad_grid"]
+# Per-point and grid rows call the public entry points, which run at the active
+# ISA: one ISA for all of them (the highest one of the batch rows), one row per
+# thread count.
+POINT = {"noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point",
+         "noise3_grid", "fbm3_grid", "fbm3_grad_grid"}
 PEER_LIBS = {"stb_perlin", "libnoise", "glm"}
 PEER_OPS = {"value", "fbm", "grad_central"}
 ISAS = {"scalar", "sse2", "avx2", "avx512", "neon", "baseline"}
@@ -34,7 +38,10 @@ def main():
     exe = sys.argv[1]
     # --icount: a file in the format of scripts/kernel_icount.sh --bench; its
     # numbers must come back in instructions_per_sample of exactly those rows.
-    icount = {("noise3", "scalar"): 239.0, ("fbm3_point", "scalar"): 1601.0}
+    # A per-point line for every ISA: only the active one's row exists.
+    icount = {("noise3", "scalar"): 239.0}
+    icount.update({("fbm3_point", isa): 1601.0 for isa in ["scalar", "sse2", "avx2", "avx512",
+                                                           "neon"]})
     path = os.path.join(tempfile.mkdtemp(), "icount.txt")
     with open(path, "w") as f:
         for (k, isa), v in icount.items():
@@ -52,6 +59,7 @@ def main():
     if not isinstance(rows, list) or not rows:
         fail("expected a non-empty JSON array")
     seen = set()
+    point_isas = set()
     for r in rows:
         if not isinstance(r, dict):
             fail("record is not an object: %r" % (r,))
@@ -67,8 +75,8 @@ def main():
                 fail("peers run on one thread: %r" % (r,))
         elif name not in OURS:
             fail("unknown kernel %r" % name)
-        elif name in POINT and r["isa"] != "scalar":
-            fail("per-point rows run the scalar kernel only: %r" % (r,))
+        elif name in POINT:
+            point_isas.add(r["isa"])
         want = icount.get((name, r["isa"]))
         if want is not None and r["instructions_per_sample"] != want:
             fail("--icount value not in the row: %r" % (r,))
@@ -96,6 +104,13 @@ def main():
         fail("kernels missing from the output: %s" % ", ".join(missing))
     if not any(r["isa"] == "scalar" for r in rows):
         fail("no scalar rows")
+    # No --isa: the active level, which is the highest ISA of the batch rows.
+    order = ["scalar", "sse2", "avx2", "avx512", "neon"]
+    top = max((r["isa"] for r in rows if r["isa"] in order and r["kernel"] not in POINT),
+              key=order.index)
+    if point_isas != {top}:
+        fail("per-point and grid rows must run at the active ISA %s only, got %s"
+             % (top, sorted(point_isas)))
     print("check_bench_json: %d records, all %d kernels" % (len(rows), len(OURS)))
 
 

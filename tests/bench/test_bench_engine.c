@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/bench.h"
-#include "check.h" /* tests/core: CHECK, check_failures */
+#include "bench/bench_impl.h" /* bench_job_run, the grid rows' lattice */
+#include "check.h"             /* tests/core: CHECK, check_failures */
 
 static size_t fake_points, fake_calls;
 
@@ -54,20 +54,70 @@ static int nisas(void)
     return n;
 }
 
+/* The grid rows split a thread's points [b, e) into sub-grids: whatever the
+ * split, the outputs are those of one grid call on the whole lattice. */
+static void check_grid_rows(void)
+{
+    const size_t side = BENCH_GRID_SIDE, n = 2 * side * side + 3 * side + 5;
+    bench_data d;
+    CHECK(bench_data_init(&d, n) == 0, "bench data");
+    bg_grid3 g = {.origin = {BENCH_GRID_ORIGIN, BENCH_GRID_ORIGIN, BENCH_GRID_ORIGIN},
+                  .step = {BENCH_GRID_STEP, BENCH_GRID_STEP, BENCH_GRID_STEP},
+                  .count = {side, side, 3}};
+    size_t total = side * side * 3;
+    float *want = malloc(5 * total * sizeof *want); /* noise, fbm v, gx, gy, gz */
+    CHECK(want != NULL, "memory");
+    if (!want || !d.v) {
+        free(want);
+        bench_data_free(&d);
+        return;
+    }
+    bg_fractal f = bg_fractal_default(BG_FUNC_FBM);
+    CHECK(bg_noise3_grid(&g, want) == BG_OK &&
+              bg_fractal3_grad_grid(&f, &g, want + total, want + 2 * total, want + 3 * total,
+                                    want + 4 * total) ==
+                  BG_OK,
+          "reference grid calls");
+    /* Cuts inside a row, at a row end, inside a slice and across a slice. */
+    const size_t cuts[] = {0, 7, side, 5 * side + 3, side * side + 1, n - 2, n};
+    bench_job j = {.d = &d, .fbm = f};
+    for (int k = 0; k < 2; k++) {
+        j.kernel = k ? K_FBM3_GRAD_GRID : K_NOISE3_GRID;
+        memset(d.v, 0xff, n * sizeof *d.v);
+        for (size_t c = 0; c + 1 < sizeof cuts / sizeof cuts[0]; c++)
+            bench_job_run(&j, cuts[c], cuts[c + 1]);
+        const float *w = want + (k ? total : 0);
+        size_t bad = 0;
+        for (size_t i = 0; i < n; i++) {
+            int differ = memcmp(&d.v[i], &w[i], sizeof(float)) != 0;
+            if (k)
+                differ |= memcmp(&d.ox[i], &want[2 * total + i], sizeof(float)) != 0 ||
+                          memcmp(&d.oy[i], &want[3 * total + i], sizeof(float)) != 0 ||
+                          memcmp(&d.oz[i], &want[4 * total + i], sizeof(float)) != 0;
+            bad += differ;
+        }
+        CHECK(bad == 0, "%s: %zu of %zu samples differ from one grid call",
+              bgt_bench_kernel_name((size_t)j.kernel), bad, n);
+    }
+    free(want);
+    bench_data_free(&d);
+}
+
 int main(void)
 {
     const bgt_bench_peer peers[] = {{"fake", BGT_PEER_VALUE, fake_value}};
     const size_t samples = 4096;
     bgt_bench_opts o = {.samples = samples, .runs = 3, .threads = 2, .isa = -1,
-                        .kernels = "noise3,fbm3_point,peer:fake", .peers = peers, .npeers = 1,
+                        .kernels = "noise3,fbm3_point,noise3_grid,peer:fake", .peers = peers, .npeers = 1,
                         .measuring = on_measuring};
     bgt_bench_result res;
     bgt_err e;
     bg_status s = bgt_bench_run(&o, &res, &e);
     CHECK(s == BG_OK, "run: %d %s", (int)s, e.msg);
     if (s == BG_OK) {
-        /* peer (1 thread) + noise3 per ISA x {1, 2 threads} + fbm3_point scalar x 2. */
-        size_t want = 1 + 2 * (size_t)nisas() + 2;
+        /* peer (1 thread) + noise3 per ISA x {1, 2 threads} + fbm3_point and
+         * noise3_grid at the active ISA x 2. */
+        size_t want = 1 + 2 * (size_t)nisas() + 4;
         CHECK(res.nrows == want, "rows %zu, want %zu", res.nrows, want);
         CHECK(announced == res.nrows, "measuring called %zu times for %zu rows", announced,
               res.nrows);
@@ -96,8 +146,13 @@ int main(void)
         CHECK(sc && sc->vs_peer == sc->median / res.rows[0].median, "vs_peer is the ratio");
         CHECK(sc2 && sc2->scaling > 0 && sc2->vs_peer == 0 && !sc2->best_peer,
               "2-thread rows: scaling, never a peer ratio");
-        CHECK(find(&res, "fbm3_point", "scalar", 1) && !find(&res, "fbm3_point", "sse2", 1),
-              "per-point rows run the scalar kernel only");
+        const char *act = bg_isa_name(bg_isa_active());
+        CHECK(find(&res, "fbm3_point", act, 1) && find(&res, "noise3_grid", act, 2),
+              "per-point and grid rows at the active ISA %s", act);
+        for (size_t i = 0; i < res.nrows; i++)
+            CHECK(res.rows[i].kernel < 0 || !strcmp(res.rows[i].name, "noise3") ||
+                      !strcmp(res.rows[i].isa, act),
+                  "%s at %s, not the active %s", res.rows[i].name, res.rows[i].isa, act);
         bgt_bench_result_free(&res);
         CHECK(res.rows == NULL && res.nrows == 0, "free clears the result");
     }
@@ -162,9 +217,26 @@ int main(void)
     unsetenv("BUMPGRAD_MAX_MB");
     CHECK(bgt_bench_run(NULL, &res, &e) == BG_ERR_NULL_POINTER, "NULL options");
 
+    /* --isa moves the public-call rows there for the run, and back after it. */
+    bg_isa was = bg_isa_active();
+    bgt_bench_opts os = o;
+    os.isa = BG_ISA_SCALAR;
+    os.threads = 1;
+    os.kernels = "fbm3_point,fbm3_grid";
+    s = bgt_bench_run(&os, &res, &e);
+    CHECK(s == BG_OK && res.nrows == 2 && !strcmp(res.rows[0].isa, "scalar") &&
+              !strcmp(res.rows[1].isa, "scalar") && bg_isa_active() == was,
+          "--isa scalar: %d %zu rows, active %s after", (int)s, res.nrows,
+          bg_isa_name(bg_isa_active()));
+    if (s == BG_OK)
+        bgt_bench_result_free(&res);
+
+    check_grid_rows();
+
     /* The kernel names are the ones the JSON shows. */
-    CHECK(bgt_bench_kernel_count() == 19 && !strcmp(bgt_bench_kernel_name(0), "noise3") &&
-              !strcmp(bgt_bench_kernel_name(18), "noise3_n256") && !bgt_bench_kernel_name(19),
+    CHECK(bgt_bench_kernel_count() == 22 && !strcmp(bgt_bench_kernel_name(0), "noise3") &&
+              !strcmp(bgt_bench_kernel_name(18), "noise3_n256") &&
+              !strcmp(bgt_bench_kernel_name(21), "fbm3_grad_grid") && !bgt_bench_kernel_name(22),
           "kernel names");
     if (check_failures)
         fprintf(stderr, "test_bench_engine: %d failures\n", check_failures);

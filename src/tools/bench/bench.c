@@ -80,11 +80,14 @@ static void run_rows(const bgt_bench_opts *o, const bench_sel *sel, const int is
         bench_measure(team, 1, job, o->samples, o->runs, rate, r);
     }
     job->peer = NULL;
+    /* The per-point and grid rows call the public entry points, which run at the
+     * active ISA (bgt_bench_run forced it to o->isa when one was asked for). */
+    int active = (int)bg_isa_active();
     for (int k = 0; k < K_COUNT; k++) {
         if (!sel->ours[k])
             continue;
         for (int isa = 0; isa < BG_ISA_COUNT; isa++) {
-            if (!isa_on[isa] || (bench_is_point(k) && isa != BG_ISA_SCALAR))
+            if (!isa_on[isa] || (bench_at_active_isa(k) && isa != active))
                 continue;
             job->t = bg_kernels_for((bg_isa)isa);
             job->kernel = k;
@@ -146,11 +149,23 @@ bg_status bgt_bench_run(const bgt_bench_opts *o, bgt_bench_result *res, bgt_err 
     res->load_before = bench_load_average();
     bench_job job;
     init_job(&job, &d);
-    run_rows(o, &sel, isa_on, team, &job, rate, res);
+    /* --isa for the public-call rows: the active level, for the run only. */
+    bg_isa was = bg_isa_active();
+    if (o->isa >= 0 && o->isa != (int)was)
+        s = bg_isa_force((bg_isa)o->isa);
+    if (s == BG_OK)
+        run_rows(o, &sel, isa_on, team, &job, rate, res);
+    if (bg_isa_active() != was)
+        (void)bg_isa_force(was);
     bench_team_stop(team);
     res->load_after = bench_load_average();
     bench_data_free(&d);
     free(rate);
+    if (s != BG_OK) {
+        bgt_bench_result_free(res);
+        return bgt_fail(e, s, "--isa %s: cannot make it the active level here",
+                        bg_isa_name((bg_isa)o->isa));
+    }
     if (o->icount_path && (s = bench_read_icounts(o->icount_path, res->rows, res->nrows, e))) {
         bgt_bench_result_free(res);
         return s;

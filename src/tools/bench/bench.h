@@ -60,7 +60,8 @@ extern const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT];
 /* Our kernel names (rows.c), in the order the rows come out:
  * noise3 noise3_grad fbm3_grad turbulence3_grad turbulence3_grad_central
  * perturb_surfgrad perturb_additive perturb_height fbm3 noise3_point
- * noise3_grad_point fbm3_point fbm3_grad_point noise3_n1 ... noise3_n256. */
+ * noise3_grad_point fbm3_point fbm3_grad_point noise3_n1 ... noise3_n256
+ * noise3_grid fbm3_grid fbm3_grad_grid (a 128 x 128 x k lattice, rows.c). */
 size_t bgt_bench_kernel_count(void);
 const char *bgt_bench_kernel_name(size_t k);
 
@@ -95,7 +96,11 @@ typedef struct bgt_bench_opts {
     int runs;       /* timed runs per row, 1..BGT_BENCH_MAX_RUNS */
     int threads;    /* the N of the N-thread rows (1: one-thread rows only) */
     /* -1: every ISA this build and CPU have, up to bg_isa_active() (the cap of
-     * BUMPGRAD_ISA / bg_isa_force); else only this bg_isa. */
+     * BUMPGRAD_ISA / bg_isa_force); else only this bg_isa. The per-point and
+     * grid rows call the public entry points, which run at the active ISA: they
+     * are measured once, at bg_isa_active() for -1, else at this ISA, which the
+     * run makes the active level (bg_isa_force) and restores before returning;
+     * so no other thread may make batch calls during such a run. */
     int isa;
     /* Comma-separated selection (NULL: "all"): kernel names, "ours", "peers",
      * "peer:<library>", "peer:<library>:<op>". */

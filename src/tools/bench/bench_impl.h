@@ -18,7 +18,9 @@ enum {
     K_PERTURB_ADDITIVE,
     K_PERTURB_HEIGHT,
     K_FBM3,
-    /* Per-point entry points (always the scalar kernel: measured once, as "scalar"). */
+    /* Per-point entry points: public calls, which run at the active ISA (bg_noise3 and
+     * bg_noise3_grad on the scalar point code at every ISA, bg_fractal3(_grad) on the
+     * active table's point function): measured once, at that ISA (bench.c). */
     K_NOISE3_POINT,
     K_NOISE3_GRAD_POINT,
     K_FBM3_POINT,
@@ -30,9 +32,11 @@ enum {
     K_NOISE3_N16,
     K_NOISE3_N64,
     K_NOISE3_N256,
-    /* Grid entry points (issue 10, item 3) go here once noise.h has them:
-     * K_NOISE3_GRID (bg_noise3_grid), K_FBM3_GRID (bg_fractal3_grid), with a
-     * name in rows.c's table and a case in job_run. */
+    /* Grid entry points (bg_noise3_grid, bg_fractal3_grid, bg_fractal3_grad_grid):
+     * public calls at the active ISA, measured once like the per-point rows. */
+    K_NOISE3_GRID,
+    K_FBM3_GRID,
+    K_FBM3_GRAD_GRID,
     K_COUNT
 };
 
@@ -58,10 +62,23 @@ typedef struct bench_job {
     float step;
 } bench_job;
 
+/* The grid rows' lattice: BENCH_GRID_SIDE x BENCH_GRID_SIDE samples per z
+ * slice, as many slices as the samples fill (128 x 128 x 16 for --quick's
+ * 2^18, x 256 for 2^22; the last slice partial when the count is not a
+ * multiple of 16384), spacing 1/8 on every axis (8 samples per lattice cell
+ * along each axis, as in an image or voxel bake), origin off the integer
+ * lattice. */
+#define BENCH_GRID_SIDE ((size_t)128)
+#define BENCH_GRID_STEP 0.125
+#define BENCH_GRID_ORIGIN (-7.9765625)
+
 /* rows.c */
 /* Run `j` over the points [b, e). */
 void bench_job_run(const bench_job *j, size_t b, size_t e);
 int bench_is_point(int k);
+/* 1 for the rows that go through the public entry points (per-point and grid),
+ * which run at the active ISA: measured at one ISA only (bench.c). */
+int bench_at_active_isa(int k);
 /* bgt_bench_peer_op of the comparable peer operation of kernel k, -1 if none. */
 int bench_peer_op_of(int k);
 typedef struct bench_sel {

@@ -37,9 +37,9 @@ static const kernel_info kernels[K_COUNT] = {
     {"noise3_n16", BGT_PEER_VALUE},
     {"noise3_n64", BGT_PEER_VALUE},
     {"noise3_n256", BGT_PEER_VALUE},
-    /* GRID ROWS (issue 10 item 3, at merge with bg_noise3_grid / bg_fractal3_grid):
-     * {"noise3_grid", BGT_PEER_VALUE}, {"fbm3_grid", BGT_PEER_FBM}, after the
-     * K_NOISE3_GRID / K_FBM3_GRID enumerators in bench_impl.h. */
+    {"noise3_grid", BGT_PEER_VALUE},        /* bg_noise3_grid on the bench lattice */
+    {"fbm3_grid", BGT_PEER_FBM},            /* bg_fractal3_grid, 6-octave fBm */
+    {"fbm3_grad_grid", BGT_PEER_FBM},       /* bg_fractal3_grad_grid */
 };
 
 const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT] = {"value", "fbm", "grad_central"};
@@ -49,6 +49,8 @@ size_t bgt_bench_kernel_count(void) { return K_COUNT; }
 const char *bgt_bench_kernel_name(size_t k) { return k < K_COUNT ? kernels[k].name : NULL; }
 int bench_peer_op_of(int k) { return k >= 0 && k < K_COUNT ? kernels[k].peer_op : -1; }
 int bench_is_point(int k) { return k >= K_NOISE3_POINT && k <= K_FBM3_GRAD_POINT; }
+static int is_grid(int k) { return k >= K_NOISE3_GRID && k <= K_FBM3_GRAD_GRID; }
+int bench_at_active_isa(int k) { return bench_is_point(k) || is_grid(k); }
 
 /* Points per call of the K_NOISE3_N* rows. */
 static size_t chunk_of(int k)
@@ -57,7 +59,7 @@ static size_t chunk_of(int k)
     return k >= K_NOISE3_N1 && k <= K_NOISE3_N256 ? c[k - K_NOISE3_N1] : 0;
 }
 
-/* One call per point of the public single-point functions (scalar kernel). */
+/* One call per point of the public single-point functions (at the active ISA). */
 static void run_points(const bench_job *j, size_t b, size_t e)
 {
     const bench_data *d = j->d;
@@ -73,6 +75,39 @@ static void run_points(const bench_job *j, size_t b, size_t e)
     }
 }
 
+/* The grid rows' lattice (bench_impl.h): sample index i is (i % side,
+ * i / side % side, i / side^2), the grid calls' storage order, so the points
+ * [b, e) of a thread are at most five sub-grids (a partial row, whole rows,
+ * whole slices, whole rows, a partial row) whose outputs are d->v + b onwards
+ * in order. The random px/py/pz do not apply. */
+static void run_grid(const bench_job *j, size_t b, size_t e)
+{
+    const bench_data *d = j->d;
+    const size_t side = BENCH_GRID_SIDE, plane = side * side;
+    while (b < e) {
+        size_t at[3] = {b % side, b / side % side, b / plane}, left = e - b;
+        bg_grid3 g = {.count = {side, 1, 1}};
+        if (at[0] || left < side)
+            g.count[0] = left < side - at[0] ? left : side - at[0];
+        else if (at[1] || left < plane)
+            g.count[1] = left / side < side - at[1] ? left / side : side - at[1];
+        else
+            g.count[1] = side, g.count[2] = left / plane;
+        for (int a = 0; a < 3; a++) {
+            g.origin[a] = BENCH_GRID_ORIGIN + (double)at[a] * BENCH_GRID_STEP;
+            g.step[a] = BENCH_GRID_STEP;
+        }
+        /* A valid grid and descriptor: the status is always BG_OK. */
+        if (j->kernel == K_NOISE3_GRID)
+            (void)bg_noise3_grid(&g, d->v + b);
+        else if (j->kernel == K_FBM3_GRID)
+            (void)bg_fractal3_grid(&j->fbm, &g, d->v + b);
+        else
+            (void)bg_fractal3_grad_grid(&j->fbm, &g, d->v + b, d->ox + b, d->oy + b, d->oz + b);
+        b += g.count[0] * g.count[1] * g.count[2];
+    }
+}
+
 void bench_job_run(const bench_job *j, size_t b, size_t e)
 {
     const bench_data *d = j->d;
@@ -85,6 +120,10 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
     }
     if (bench_is_point(j->kernel)) {
         run_points(j, b, e);
+        return;
+    }
+    if (is_grid(j->kernel)) {
+        run_grid(j, b, e);
         return;
     }
     const bg_kernel_table *t = j->t;
@@ -113,9 +152,6 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
         t->perturb(j->kernel == K_PERTURB_SURFGRAD ? BG_PERTURB_SURFGRAD : BG_PERTURB_ADDITIVE,
                    d->nx + b, d->ny + b, d->nz + b, d->gx + b, d->gy + b, d->gz + b, n, ox, oy, oz);
         break;
-    /* GRID ROWS: case K_NOISE3_GRID / K_FBM3_GRID call the grid entry points on
-     * a lattice of about n points (a grid has its own inputs: origin, step,
-     * counts; the random px/py/pz do not apply) and write d->v + b. */
     case K_PERTURB_HEIGHT:
         t->perturb_height(&j->height, BG_PERTURB_SURFGRAD, px, py, pz, d->nx + b, d->ny + b,
                           d->nz + b, n, v, ox, oy, oz);
