@@ -513,6 +513,28 @@ def t_materials(tmp):
         for img in ("wal67ar_small.jpg", "SpiderTex.jpg", "drkwood2.jpg", "engineflare1.jpg"):
             check(img in so, f"spider: its material's {img} is used")
     t_materials_collada(tmp)
+    t_materials_embedded(tmp)
+
+
+BOX_GLB = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"
+
+
+def t_materials_embedded(tmp):
+    """A texture embedded in the file (glb, "*0") is skipped and said so: the
+    textures line counts it, and a texture method then fails with exit 2
+    saying why there is no height texture."""
+    if not os.path.exists(BOX_GLB):
+        print("skip: assimp-testmodels' BoxTextured.glb not installed")
+        return
+    out = os.path.join(tmp, "glb.png")
+    rc, so, se = run(["--mesh", BOX_GLB, "--method", "none", "--size", "16x16", "--output", out],
+                     tmp)
+    check(rc == 0 and "(embedded textures skipped: 1)" in so,
+          f"glb: the embedded texture is counted as skipped (rc {rc}: {so.strip()} {se.strip()})")
+    rc, so, se = run(["--mesh", BOX_GLB, "--method", "listing1-heightmap", "--size", "16x16",
+                      "--output", out], tmp)
+    check(rc == 2 and "embedded in the file are not extracted" in se,
+          f"glb: a texture method says the embedded texture is not used (rc {rc}: {se.strip()})")
 
 
 KWX_DAE = "/usr/share/assimp/models/Collada/kwxport_test_vcolors.dae"

@@ -491,6 +491,7 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         snprintf(count, sizeof count, "%zu", mats.embedded_textures);
         desc_add(desc, desclen, &dl, 0, " (embedded textures skipped: ", count, ")");
     }
+    const size_t embedded = mats.embedded_textures;
     bg_mesh_free(&mats);
     free(used), used = NULL;
     if (textured && !t->any_height &&
@@ -499,8 +500,9 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
          o->preset == PRESET_FIG4)) {
         s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                      "--mesh \"%s\": no height texture: give --height-map or --albedo (its "
-                     "materials name none)",
-                     o->mesh_path);
+                     "materials name none%s)",
+                     o->mesh_path,
+                     embedded ? "; textures embedded in the file are not extracted" : "");
         goto fail;
     }
     if (need_texture(o, RENDER_NORMALMAP) && !t->any_nmap) {
