@@ -21,6 +21,18 @@
 extern "C" {
 #endif
 
+/** One material of the file (an aiMaterial): its name and the first texture
+ *  of each kind it names, as a path resolved against the mesh file's folder
+ *  (backslashes turned into '/', a leading "./" dropped; an absolute path is
+ *  kept), or NULL for none. Textures embedded in the file ("*N") are not
+ *  extracted: they are left NULL and counted in bg_mesh.embedded_textures. */
+typedef struct bg_mesh_material {
+    char *name;    /**< the material's name ("" when it has none), never NULL */
+    char *diffuse; /**< first aiTextureType_DIFFUSE (OBJ map_Kd) */
+    char *height;  /**< first aiTextureType_HEIGHT (OBJ map_bump/bump), else DISPLACEMENT */
+    char *normal;  /**< first aiTextureType_NORMALS (OBJ norm) */
+} bg_mesh_material;
+
 /** An indexed triangle mesh. All arrays are owned (free with bg_mesh_free). */
 typedef struct bg_mesh {
     size_t vertex_count;   /**< <= UINT32_MAX */
@@ -41,7 +53,22 @@ typedef struct bg_mesh {
      *  tangents went through the node transform alike (normals by the inverse
      *  transpose); tw is the handedness after it. */
     float *tx, *ty, *tz, *tw;
+    /** Per triangle, its material: an index < material_count (the
+     *  aiMesh::mMaterialIndex of the mesh the triangle came from), or NULL
+     *  when the scene has at most one material (then every triangle uses
+     *  materials[0], if any). */
+    uint32_t *material;
+    size_t material_count;        /**< entries of materials (<= BG_MESH_MAX_MATERIALS) */
+    bg_mesh_material *materials;  /**< the scene's materials in assimp's order, or NULL */
+    size_t embedded_textures;     /**< texture references to embedded images ("*N") that
+                                       were skipped (left NULL in materials) */
 } bg_mesh;
+
+/** The most materials a loaded mesh carries (a file with more is refused with
+ *  BG_ERR_FORMAT), and the longest texture path or name kept (longer ones are
+ *  refused too). */
+#define BG_MESH_MAX_MATERIALS 65536
+#define BG_MESH_MAX_STRING 4096
 
 /** Loading options (bit flags) for bg_mesh_load_ex. */
 typedef enum bg_mesh_flags {

@@ -109,6 +109,107 @@ template <typename T> T *alloc_array(size_t n)
     return static_cast<T *>(std::calloc(n ? n : 1, sizeof(T)));
 }
 
+// A malloc'ed copy of s[0, n), NUL-terminated (free() in bg_mesh_free).
+char *dup_string(const char *s, size_t n)
+{
+    char *d = static_cast<char *>(std::malloc(n + 1));
+    if (d) {
+        std::memcpy(d, s, n);
+        d[n] = 0;
+    }
+    return d;
+}
+
+// The four strings of a material, in the order the import child sends them.
+std::array<char **, 4> material_strings(bg_mesh_material &mm)
+{
+    return {&mm.name, &mm.diffuse, &mm.height, &mm.normal};
+}
+
+// The folder of the mesh file with a trailing '/', absolute (the current
+// directory prefixed to a relative path), "" when neither is known.
+std::string mesh_folder(const char *path)
+{
+    std::string dir(path);
+    size_t slash = dir.rfind('/');
+    dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
+    if (path[0] != '/') {
+        char cwd[4096];
+        if (getcwd(cwd, sizeof cwd))
+            dir = std::string(cwd) + "/" + dir;
+    }
+    return dir;
+}
+
+// The first texture of `type` of material `mat` as a path resolved against
+// `dir` (backslashes as '/', so spider.mtl's "map_Kd .\wal67ar_small.jpg"
+// works, and a leading "./" dropped), "" for none; an embedded texture ("*N",
+// or a name the scene's embedded textures hold) is skipped and counted.
+std::string texture_path(const aiScene *scene, const aiMaterial *mat, aiTextureType type,
+                         const std::string &dir, size_t &embedded)
+{
+    aiString tp;
+    if (mat->GetTextureCount(type) == 0 || mat->GetTexture(type, 0, &tp) != AI_SUCCESS ||
+        tp.length == 0)
+        return std::string();
+    std::string t(tp.C_Str());
+    if (t[0] == '*' || scene->GetEmbeddedTexture(tp.C_Str())) {
+        ++embedded;
+        return std::string();
+    }
+    std::replace(t.begin(), t.end(), '\\', '/');
+    if (t.compare(0, 2, "./") == 0)
+        t.erase(0, 2);
+    return t[0] == '/' ? t : dir + t;
+}
+
+// The scene's materials into m.materials (see bg_mesh_material).
+bg_status read_materials(const aiScene *scene, const char *path, bg_mesh &m, char *err,
+                         size_t errlen)
+{
+    if (scene->mNumMaterials == 0 || !scene->mMaterials)
+        return BG_OK;
+    if (scene->mNumMaterials > BG_MESH_MAX_MATERIALS) {
+        bg_io_set_error(err, errlen, "'%s': %u materials, more than the %d this tool keeps", path,
+                        scene->mNumMaterials, BG_MESH_MAX_MATERIALS);
+        return BG_ERR_FORMAT;
+    }
+    const std::string dir = mesh_folder(path);
+    m.materials = alloc_array<bg_mesh_material>(scene->mNumMaterials);
+    if (!m.materials)
+        return BG_ERR_OUT_OF_MEMORY;
+    m.material_count = scene->mNumMaterials;
+    for (unsigned k = 0; k < scene->mNumMaterials; ++k) {
+        const aiMaterial *mat = scene->mMaterials[k];
+        bg_mesh_material &mm = m.materials[k];
+        std::string s[4];
+        if (mat) {
+            s[0] = mat->GetName().C_Str();
+            s[1] = texture_path(scene, mat, aiTextureType_DIFFUSE, dir, m.embedded_textures);
+            s[2] = texture_path(scene, mat, aiTextureType_HEIGHT, dir, m.embedded_textures);
+            if (s[2].empty())
+                s[2] = texture_path(scene, mat, aiTextureType_DISPLACEMENT, dir,
+                                    m.embedded_textures);
+            s[3] = texture_path(scene, mat, aiTextureType_NORMALS, dir, m.embedded_textures);
+        }
+        const auto dst = material_strings(mm);
+        for (int i = 0; i < 4; ++i) {
+            if (i > 0 && s[i].empty())
+                continue;
+            if (s[i].size() > BG_MESH_MAX_STRING) {
+                bg_io_set_error(err, errlen,
+                                "'%s': material %u names a texture or name of %zu bytes, more "
+                                "than %d",
+                                path, k, s[i].size(), BG_MESH_MAX_STRING);
+                return BG_ERR_FORMAT;
+            }
+            if (!(*dst[i] = dup_string(s[i].data(), s[i].size())))
+                return BG_ERR_OUT_OF_MEMORY;
+        }
+    }
+    return BG_OK;
+}
+
 bg_status precheck(const char *path, char *err, size_t errlen)
 {
     // Tell "missing / unreadable" (I/O) from "not a mesh" (format) before
@@ -263,6 +364,10 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
     }
     m.indices = alloc_array<uint32_t>(nt * 3 >= nt ? nt * 3 : SIZE_MAX);
     ok = ok && m.indices;
+    if (scene->mNumMaterials > 1) {
+        m.material = alloc_array<uint32_t>(nt);
+        ok = ok && m.material;
+    }
     if (!ok) {
         bg_mesh_free(&m);
         bg_io_set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path, nv, nt);
@@ -315,10 +420,19 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
                 m.tw[base + i] = ((n ^ tg) * b) < 0.0f ? -1.0f : 1.0f;
             }
         }
+        if (m.material && am->mMaterialIndex >= scene->mNumMaterials) {
+            // ValidateDataStructure rejects this already (as below).
+            bg_mesh_free(&m);
+            bg_io_set_error(err, errlen, "'%s': mesh '%s' uses material %u of %u", path,
+                            am->mName.C_Str(), am->mMaterialIndex, scene->mNumMaterials);
+            return BG_ERR_FORMAT;
+        }
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
             const aiFace &face = am->mFaces[f];
             if (face.mNumIndices != 3)
                 continue;
+            if (m.material)
+                m.material[t] = am->mMaterialIndex;
             for (unsigned c = 0; c < 3; ++c) {
                 unsigned idx = face.mIndices[flip ? 2 - c : c];
                 if (idx >= am->mNumVertices) {
@@ -334,6 +448,13 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             ++t;
         }
         base += am->mNumVertices;
+    }
+    bg_status st = read_materials(scene, path, m, err, errlen);
+    if (st != BG_OK) {
+        bg_mesh_free(&m);
+        if (st == BG_ERR_OUT_OF_MEMORY)
+            bg_io_set_error(err, errlen, "'%s': out of memory for its materials", path);
+        return st;
     }
     *out = m;
     return BG_OK;
@@ -357,8 +478,8 @@ bg_status import_guarded(const char *path, unsigned flags, bg_mesh *out, char *e
 
 struct wire_header {
     int32_t status;
-    int32_t has_normals, has_uvs, has_tangents;
-    uint64_t vertex_count, triangle_count, mesh_count, dropped;
+    int32_t has_normals, has_uvs, has_tangents, has_material_ids;
+    uint64_t vertex_count, triangle_count, mesh_count, dropped, material_count, embedded;
     char err[512];
 };
 
@@ -399,6 +520,9 @@ size_t child_memory_cap(const char *path)
     h.triangle_count = m.triangle_count;
     h.mesh_count = m.mesh_count;
     h.dropped = m.dropped_primitives;
+    h.has_material_ids = m.material != nullptr;
+    h.material_count = m.material_count;
+    h.embedded = m.embedded_textures;
     bool ok = write_all(fd, &h, sizeof h);
     size_t nv = m.vertex_count * sizeof(float);
     for (float **a : vertex_arrays(m))
@@ -406,8 +530,57 @@ size_t child_memory_cap(const char *path)
             ok = write_all(fd, *a, nv);
     if (ok && h.status == BG_OK)
         ok = write_all(fd, m.indices, m.triangle_count * 3 * sizeof(uint32_t));
+    if (ok && m.material)
+        ok = write_all(fd, m.material, m.triangle_count * sizeof(uint32_t));
+    // Each material's strings: a uint32 length (UINT32_MAX for NULL), then its bytes.
+    for (size_t k = 0; ok && k < m.material_count; ++k)
+        for (char **str : material_strings(m.materials[k])) {
+            const uint32_t len = *str ? static_cast<uint32_t>(std::strlen(*str)) : UINT32_MAX;
+            ok = write_all(fd, &len, sizeof len) && (!*str || write_all(fd, *str, len));
+        }
     // _exit: no atexit handlers or stdio flushes of the parent's state.
     _exit(ok ? 0 : 1);
+}
+
+// The material ids and materials after the indices (child_main), checked
+// against the caps: at most BG_MESH_MAX_MATERIALS, strings of at most
+// BG_MESH_MAX_STRING bytes, every id below the count. A violation clears
+// `got` (a malformed stream: the caller reports "stopped without a result").
+int read_wire_materials(int fd, const wire_header &h, bg_mesh &m, bool &got)
+{
+    if (h.material_count > BG_MESH_MAX_MATERIALS || (h.has_material_ids && h.material_count == 0)) {
+        got = false;
+        return BG_OK;
+    }
+    m.embedded_textures = h.embedded;
+    if (h.has_material_ids) {
+        if (!(m.material = alloc_array<uint32_t>(m.triangle_count)))
+            return BG_ERR_OUT_OF_MEMORY;
+        got = read_all(fd, m.material, m.triangle_count * sizeof(uint32_t));
+        for (size_t t = 0; got && t < m.triangle_count; ++t)
+            got = m.material[t] < h.material_count;
+    }
+    if (!got || h.material_count == 0)
+        return BG_OK;
+    if (!(m.materials = alloc_array<bg_mesh_material>(h.material_count)))
+        return BG_ERR_OUT_OF_MEMORY;
+    m.material_count = h.material_count;
+    for (size_t k = 0; got && k < m.material_count; ++k)
+        for (char **str : material_strings(m.materials[k])) {
+            uint32_t len = 0;
+            got = read_all(fd, &len, sizeof len) &&
+                  (len <= BG_MESH_MAX_STRING || (len == UINT32_MAX && str != &m.materials[k].name));
+            if (!got)
+                break;
+            if (len == UINT32_MAX)
+                continue;
+            if (!(*str = alloc_array<char>(static_cast<size_t>(len) + 1)))
+                return BG_ERR_OUT_OF_MEMORY;
+            got = read_all(fd, *str, len);
+            // a NUL inside would cut the string short silently: refuse the stream
+            got = got && std::memchr(*str, 0, len) == nullptr;
+        }
+    return BG_OK;
 }
 
 // BG_OK/BG_ERR_*: the load's result; -1: could not start a child (the caller
@@ -464,6 +637,8 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
                 else
                     got = read_all(fds[0], m.indices, m.triangle_count * 3 * sizeof(uint32_t));
             }
+            if (got && rc == BG_OK)
+                rc = read_wire_materials(fds[0], h, m, got);
         }
     }
     close(fds[0]);
@@ -610,6 +785,11 @@ void bg_mesh_free(bg_mesh *mesh)
     for (float **a : vertex_arrays(*mesh))
         std::free(*a);
     std::free(mesh->indices);
+    std::free(mesh->material);
+    for (size_t k = 0; mesh->materials && k < mesh->material_count; ++k)
+        for (char **str : material_strings(mesh->materials[k]))
+            std::free(*str);
+    std::free(mesh->materials);
     std::memset(mesh, 0, sizeof *mesh);
 }
 

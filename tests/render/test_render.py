@@ -512,6 +512,79 @@ def t_materials(tmp):
         check(rc == 0, f"spider: exit 0 (got {rc}: {se.strip()})")
         for img in ("wal67ar_small.jpg", "SpiderTex.jpg", "drkwood2.jpg", "engineflare1.jpg"):
             check(img in so, f"spider: its material's {img} is used")
+    t_materials_collada(tmp)
+    t_materials_embedded(tmp)
+
+
+BOX_GLB = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"
+
+
+def t_materials_embedded(tmp):
+    """A texture embedded in the file (glb, "*0") is skipped and said so: the
+    textures line counts it, and a texture method then fails with exit 2
+    saying why there is no height texture."""
+    if not os.path.exists(BOX_GLB):
+        print("skip: assimp-testmodels' BoxTextured.glb not installed")
+        return
+    out = os.path.join(tmp, "glb.png")
+    rc, so, se = run(["--mesh", BOX_GLB, "--method", "none", "--size", "16x16", "--output", out],
+                     tmp)
+    check(rc == 0 and "(embedded textures skipped: 1)" in so,
+          f"glb: the embedded texture is counted as skipped (rc {rc}: {so.strip()} {se.strip()})")
+    rc, so, se = run(["--mesh", BOX_GLB, "--method", "listing1-heightmap", "--size", "16x16",
+                      "--output", out], tmp)
+    check(rc == 2 and "embedded in the file are not extracted" in se,
+          f"glb: a texture method says the embedded texture is not used (rc {rc}: {se.strip()})")
+
+
+KWX_DAE = "/usr/share/assimp/models/Collada/kwxport_test_vcolors.dae"
+
+
+def t_materials_collada(tmp):
+    """The loader's per-triangle materials for a format other than OBJ
+    (bg_mesh.material/materials from assimp's aiMesh::mMaterialIndex, not the
+    renderer's own OBJ reader): assimp-testmodels' Collada cube has three
+    textured materials, "top" (../X/top.tga) on its +y faces, "bottom"
+    (../X/bottom.tga) on its -y faces and "side" (../X/updown.tga) on the
+    others. The real file renders with all three sets; a copy next to solid
+    red/blue/green stand-ins for those textures shows each face takes its own
+    material's: red seen from above, blue from below, green from the side."""
+    if not os.path.exists(KWX_DAE):
+        print("skip: assimp-testmodels' Collada cube not installed")
+        return
+    rc, so, se = run(["--mesh", KWX_DAE, "--compare", "none,listing1-heightmap", "--size",
+                      "48x48", "--output", os.path.join(tmp, "kwx.png")], tmp)
+    check(rc == 0, f"collada: exit 0 (got {rc}: {se.strip()})")
+    for name, img in (("bottom", "bottom.tga"), ("side", "updown.tga"), ("top", "top.tga")):
+        check(re.search(r"\[%s\] albedo=%s " % (name, re.escape(img)), so) is not None,
+              f"collada: material [{name}] loads its own {img} ({so.strip()})")
+    # the copy: model in tmp/c/, its textures in tmp/X/ as the file names them
+    os.makedirs(os.path.join(tmp, "c"), exist_ok=True)
+    os.makedirs(os.path.join(tmp, "X"), exist_ok=True)
+    mesh = os.path.join(tmp, "c", "cube.dae")
+    shutil.copyfile(KWX_DAE, mesh)
+
+    def tga(name, rgb):  # uncompressed 24-bit TGA, 8x8, one colour
+        hdr = bytes([0, 0, 2] + [0] * 9 + [8, 0, 8, 0, 24, 0])
+        with open(os.path.join(tmp, "X", name), "wb") as f:
+            f.write(hdr + bytes((rgb[2], rgb[1], rgb[0])) * 64)
+    tga("top.tga", (230, 20, 20))
+    tga("bottom.tga", (20, 20, 230))
+    tga("updown.tga", (20, 230, 20))
+    out = os.path.join(tmp, "cube.ppm")
+    for view, chan, what in (("0.2,1,0.2", 0, "red from above (top)"),
+                             ("0.2,-1,0.2", 2, "blue from below (bottom)"),
+                             ("1,0.2,0.2", 1, "green from the side (side)")):
+        light = ",".join(str(5 * float(c)) for c in view.split(","))
+        rc, so, se = run(["--mesh", mesh, "--method", "none", "--view", view, "--light", light,
+                          "--size", "32x32", "--output", out], tmp)
+        if not check(rc == 0, f"collada copy, view {view}: exit 0 (got {rc}: {se.strip()})"):
+            continue
+        w, h, px = read_ppm(out)
+        i = (h // 2 * w + w // 2) * 3
+        c = tuple(px[i:i + 3])
+        check(all(c[chan] > 2 * c[k] for k in range(3) if k != chan),
+              f"collada copy: the centre pixel is {what}: {c}")
 
 
 TESTS = {"presets": t_presets, "inward": t_inward, "density": t_density, "none": t_none,

@@ -7,10 +7,10 @@
  *  - vertex normals from the file, or angle-weighted ones when it has none,
  *    and per-corner mikkTSpace tangents and signs (src/tools/mesh: the frames
  *    `bumpgrad mesh --bake-normal-map` bakes in, so its maps render as baked);
- *  - textures from --height-map/--normal-map/--albedo, else from an OBJ's
- *    material library (the first map_bump/bump, norm and map_Kd found: the
- *    loader flattens all meshes and keeps no per-triangle material, so one
- *    texture set covers the whole mesh). Without a height map the height is
+ *  - textures from --height-map/--normal-map/--albedo, else from the file's
+ *    materials, per triangle (bg_mesh.material/materials: the first diffuse,
+ *    height and normal texture of each of assimp's materials, for every
+ *    format assimp reads). Without a height map the height is
  *    the gray level of the albedo, the seed's diffuse-to-height method
  *    (bumpgrad heightmap: 0.33 R + 0.66 G + 0.11 B); without a normal map the
  *    normal map is baked from that height (central differences, as
@@ -18,7 +18,6 @@
  * Texture coordinates are (s, t) = st_scale * (u, 1 - v): t runs down the
  * image rows, as bg_height_texture addresses texels. */
 #define _POSIX_C_SOURCE 200809L
-#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,218 +57,6 @@ static void desc_add(char *desc, size_t len, size_t *at, int desc_short, const c
     *at = n < 0 ? *at : *at + (size_t)n < len ? *at + (size_t)n : len - 1;
 }
 
-/* ---- the materials of an OBJ ----
- * bg_mesh carries no per-triangle material (src/io/mesh.cc flattens assimp's
- * aiMeshes, one per material, into one list), so until it does (the interface
- * proposed in docs/FIGURES.md) the renderer reads them from the OBJ itself:
- * the textures of every newmtl of its material library, and the usemtl in
- * force at each face. */
-typedef struct mtl_entry {
-    char name[256];
-    char height[1024], nmap[1024], albedo[1024];
-} mtl_entry;
-
-/* The folder of `path` with its trailing slash ("" for none). */
-static void path_dir(const char *path, char *dir, size_t len)
-{
-    snprintf(dir, len, "%s", path);
-    char *slash = strrchr(dir, '/');
-    if (slash)
-        slash[1] = '\0';
-    else
-        dir[0] = '\0';
-}
-
-/* Every material of the library the OBJ's first mtllib names, with its first
- * map_bump/bump, norm/map_Kn and map_Kd (paths resolved against the library's
- * folder). *out is malloc'ed; returns the count, 0 when there is none. */
-static size_t mtl_read(const char *obj_path, mtl_entry **out)
-{
-    *out = NULL;
-    FILE *f = fopen(obj_path, "r");
-    if (!f)
-        return 0;
-    char line[1024], lib[1024] = "";
-    while (fgets(line, sizeof line, f))
-        if (strncmp(line, "mtllib", 6) == 0 && isspace((unsigned char)line[6])) {
-            char *s = line + 6;
-            while (isspace((unsigned char)*s))
-                s++;
-            size_t n = strcspn(s, "\r\n");
-            s[n] = '\0';
-            snprintf(lib, sizeof lib, "%s", s);
-            break;
-        }
-    fclose(f);
-    if (!lib[0])
-        return 0;
-    char dir[1024], mtl[2100];
-    path_dir(obj_path, dir, sizeof dir);
-    snprintf(mtl, sizeof mtl, "%s%s", dir, lib);
-    if (!(f = fopen(mtl, "r")))
-        return 0;
-    size_t n = 0, cap = 0;
-    mtl_entry *m = NULL;
-    while (fgets(line, sizeof line, f)) {
-        char *s = line;
-        while (isspace((unsigned char)*s))
-            s++;
-        size_t len = strcspn(s, "\r\n");
-        s[len] = '\0';
-        while (len > 0 && isspace((unsigned char)s[len - 1]))
-            s[--len] = '\0';
-        if (strncmp(s, "newmtl", 6) == 0 && isspace((unsigned char)s[6])) {
-            if (n == cap) {
-                size_t nc = cap ? 2 * cap : 8;
-                mtl_entry *g = realloc(m, nc * sizeof *m);
-                if (!g)
-                    break;
-                m = g, cap = nc;
-            }
-            memset(&m[n], 0, sizeof m[n]);
-            char *name = s + 6;
-            while (isspace((unsigned char)*name))
-                name++;
-            snprintf(m[n].name, sizeof m[n].name, "%s", name);
-            n++;
-            continue;
-        }
-        if (n == 0)
-            continue;
-        char *dst = NULL;
-        if ((strncmp(s, "map_bump", 8) == 0 || strncmp(s, "map_Bump", 8) == 0 ||
-             strncmp(s, "bump", 4) == 0) && !m[n - 1].height[0])
-            dst = m[n - 1].height;
-        else if ((strncmp(s, "norm", 4) == 0 || strncmp(s, "map_Kn", 6) == 0) && !m[n - 1].nmap[0])
-            dst = m[n - 1].nmap;
-        else if (strncmp(s, "map_Kd", 6) == 0 && !m[n - 1].albedo[0])
-            dst = m[n - 1].albedo;
-        if (!dst)
-            continue;
-        /* The file name is the last word (options such as -bm 0.5 come first). */
-        char *name = strrchr(s, ' '), *tab = strrchr(s, '\t');
-        if (tab && (!name || tab > name))
-            name = tab;
-        if (!name)
-            continue;
-        name++;
-        for (char *c = name; *c; c++)
-            if (*c == '\\')
-                *c = '/'; /* spider.mtl: "map_Kd .\wal67ar_small.jpg" */
-        if (strncmp(name, "./", 2) == 0)
-            name += 2;
-        snprintf(dst, sizeof m[n - 1].height, "%s%s", name[0] == '/' ? "" : dir, name);
-    }
-    fclose(f);
-    *out = m;
-    return m ? n : 0;
-}
-
-static int close_to(float a, double b)
-{
-    return fabs((double)a - b) <= 1e-5 * (1.0 + fabs(b));
-}
-
-/* Material of every triangle of the OBJ (index into mt, nmt for "none": no
- * usemtl yet or a name the library lacks), in the order assimp's importer
- * emits them: the faces in file order, a polygon of k corners as k - 2
- * triangles. Verified against the loaded mesh: the counts agree and every
- * triangle's corners are corners of its face (so any triangulation of a
- * polygon passes). 1 with ids[] filled, 0 when the OBJ cannot be read that way
- * or does not match (the caller then gives all triangles one material). */
-static int obj_material_ids(const char *obj_path, const mtl_entry *mt, size_t nmt,
-                            const bg_mesh *bm, uint32_t *ids)
-{
-    FILE *f = fopen(obj_path, "r");
-    if (!f)
-        return 0;
-    float *v = NULL;
-    size_t nv = 0, vcap = 0, tri = 0;
-    uint32_t cur = (uint32_t)nmt;
-    int ok = 1;
-    char line[4096];
-    while (ok && fgets(line, sizeof line, f)) {
-        if (!strchr(line, '\n') && !feof(f)) {
-            ok = 0; /* a line longer than the buffer */
-            break;
-        }
-        char *s = line;
-        while (isspace((unsigned char)*s))
-            s++;
-        if (s[0] == 'v' && isspace((unsigned char)s[1])) {
-            if (nv == vcap) {
-                size_t nc = vcap ? 2 * vcap : 1024;
-                float *g = realloc(v, nc * 3 * sizeof *v);
-                if (!g) {
-                    ok = 0;
-                    break;
-                }
-                v = g, vcap = nc;
-            }
-            char *end = s + 1;
-            for (int a = 0; a < 3; a++)
-                v[nv * 3 + a] = strtof(end, &end);
-            nv++;
-        } else if (strncmp(s, "usemtl", 6) == 0 && isspace((unsigned char)s[6])) {
-            char *name = s + 6;
-            while (isspace((unsigned char)*name))
-                name++;
-            name[strcspn(name, "\r\n")] = '\0';
-            size_t len = strlen(name);
-            while (len > 0 && isspace((unsigned char)name[len - 1]))
-                name[--len] = '\0';
-            cur = (uint32_t)nmt;
-            for (size_t i = 0; i < nmt; i++)
-                if (strcmp(mt[i].name, name) == 0) {
-                    cur = (uint32_t)i;
-                    break;
-                }
-        } else if (s[0] == 'f' && isspace((unsigned char)s[1])) {
-            long corner[64];
-            int k = 0;
-            char *p = s + 1;
-            while (*p) {
-                while (isspace((unsigned char)*p))
-                    p++;
-                if (!*p)
-                    break;
-                char *end;
-                long idx = strtol(p, &end, 10);
-                if (end == p || k == 64 || idx == 0) {
-                    ok = 0;
-                    break;
-                }
-                corner[k++] = idx > 0 ? idx - 1 : (long)nv + idx;
-                while (*end && !isspace((unsigned char)*end))
-                    end++; /* past /vt/vn */
-                p = end;
-            }
-            for (int c = 0; ok && c < k; c++)
-                ok = corner[c] >= 0 && (size_t)corner[c] < nv;
-            for (int t = 0; ok && t < k - 2; t++, tri++) {
-                if (tri >= bm->triangle_count) {
-                    ok = 0;
-                    break;
-                }
-                for (int j = 0; ok && j < 3; j++) {
-                    uint32_t q = bm->indices[tri * 3 + j];
-                    int found = 0;
-                    for (int c = 0; !found && c < k; c++) {
-                        const float *P = v + corner[c] * 3;
-                        found = q < bm->vertex_count && close_to(bm->px[q], P[0]) &&
-                                close_to(bm->py[q], P[1]) && close_to(bm->pz[q], P[2]);
-                    }
-                    ok = found;
-                }
-                if (ok)
-                    ids[tri] = cur;
-            }
-        }
-    }
-    fclose(f);
-    free(v);
-    return ok && tri == bm->triangle_count;
-}
 
 static float srgb_to_linear(float c)
 {
@@ -595,33 +382,20 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no triangle with finite corners",
                         o->mesh_path);
     }
-    /* Materials: per triangle from the OBJ when its faces match the mesh
-     * (obj_material_ids), else one set of the first texture of each kind. */
-    mtl_entry *mt = NULL;
-    size_t nmt = bm.u ? mtl_read(o->mesh_path, &mt) : 0, nsets = 1;
-    uint32_t *ids = nmt > 1 ? malloc((bm.triangle_count ? bm.triangle_count : 1) * sizeof *ids) : NULL;
-    unsigned char *used = NULL;
-    if (ids && obj_material_ids(o->mesh_path, mt, nmt, &bm, ids)) {
-        nsets = nmt + 1; /* and one without textures for faces without a known usemtl */
-    } else {
-        free(ids), ids = NULL;
-        for (size_t i = 1; i < nmt; i++) { /* the first of each kind into mt[0] */
-            if (!mt[0].height[0])
-                memcpy(mt[0].height, mt[i].height, sizeof mt[0].height);
-            if (!mt[0].nmap[0])
-                memcpy(mt[0].nmap, mt[i].nmap, sizeof mt[0].nmap);
-            if (!mt[0].albedo[0])
-                memcpy(mt[0].albedo, mt[i].albedo, sizeof mt[0].albedo);
-        }
-        nmt = nmt ? 1 : 0;
-    }
-    used = calloc(nsets, 1);
+    /* Materials: the loader's (bg_mesh.material, .materials): set i is
+     * material i, triangle f uses ids[f]; without per-triangle ids (at most
+     * one material) one set, material 0's, covers the mesh. A face with no
+     * known material (an OBJ face before any usemtl) is in assimp's default
+     * material, which names no texture. */
+    const uint32_t *ids = bm.u ? bm.material : NULL;
+    const size_t nmt = bm.u ? bm.material_count : 0, nsets = ids ? nmt : 1;
+    unsigned char *used = calloc(nsets, 1);
     uint32_t *tmat = ids ? malloc(keep * sizeof *tmat) : NULL;
     float *pos = malloc(keep * 9 * sizeof(float)), *nrm = malloc(keep * 9 * sizeof(float));
     float *uv = bm.u ? malloc(keep * 6 * sizeof(float)) : NULL;
     float *tan = ctan ? malloc(keep * 12 * sizeof(float)) : NULL;
     if (!pos || !nrm || (bm.u && !uv) || (ctan && !tan) || !used || (ids && !tmat)) {
-        free(pos), free(nrm), free(uv), free(tan), free(mt), free(ids), free(used), free(tmat);
+        free(pos), free(nrm), free(uv), free(tan), free(used), free(tmat);
         free(vp), free(vn), free(ctan);
         bg_mesh_free(&bm);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
@@ -660,10 +434,16 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     }
     free(vp), free(vn), free(ctan);
     const int has_uv = bm.u != NULL;
+    /* Keep only the materials (a mesh holding just them, for bg_mesh_free):
+     * the geometry goes now, as large meshes need the memory. */
+    bg_mesh mats = {0};
+    mats.materials = bm.materials, mats.material_count = bm.material_count;
+    mats.embedded_textures = bm.embedded_textures;
+    bm.materials = NULL, bm.material_count = 0, ids = NULL;
     bg_mesh_free(&bm);
-    free(ids);
     if ((s = render_mesh_adopt(m, keep, pos, nrm, uv, tan)) != BG_OK) {
-        free(mt), free(used), free(tmat);
+        bg_mesh_free(&mats);
+        free(used), free(tmat);
         return bgt_fail(e, s, "out of memory");
     }
     m->mat = tmat;
@@ -672,7 +452,8 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     t->amplitude = o->tex_amplitude;
     t->st_scale = o->st_scale > 0 ? o->st_scale : 1.0f;
     if (!has_uv) {
-        free(mt), free(used);
+        bg_mesh_free(&mats);
+        free(used);
         t->mat = calloc(1, sizeof *t->mat); /* one empty set: the procedural methods */
         if (!t->mat) {
             render_mesh_free(m);
@@ -692,12 +473,11 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     for (size_t i = 0; i < nsets; i++) {
         if (!used[i])
             continue;
-        /* set i: material i of the library, the "no material" set after them,
-         * or (without per-triangle ids) the first texture of each kind */
-        const mtl_entry *me = i < nmt ? &mt[i] : NULL;
-        const char *hp = o->height_map ? o->height_map : me && me->height[0] ? me->height : NULL;
-        const char *np = o->normal_map ? o->normal_map : me && me->nmap[0] ? me->nmap : NULL;
-        const char *ap = o->albedo_map ? o->albedo_map : me && me->albedo[0] ? me->albedo : NULL;
+        /* set i: material i of the file (without per-triangle ids: material 0, if any) */
+        const bg_mesh_material *me = i < nmt ? &mats.materials[i] : NULL;
+        const char *hp = o->height_map ? o->height_map : me ? me->height : NULL;
+        const char *np = o->normal_map ? o->normal_map : me ? me->normal : NULL;
+        const char *ap = o->albedo_map ? o->albedo_map : me ? me->diffuse : NULL;
         if (nsets > 1 && me && (hp || np || ap))
             desc_add(desc, desclen, &dl, 0, " [", me->name, "]");
         if ((s = load_material(o, hp, np, ap, want_nmap, ls, lt, t, &t->mat[i], desc, desclen,
@@ -706,7 +486,13 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         t->any_height |= t->mat[i].height.texels != NULL;
         t->any_nmap |= t->mat[i].nmap[0].texels != NULL;
     }
-    free(mt), mt = NULL;
+    if (mats.embedded_textures) { /* the loader does not extract "*N" textures */
+        char count[32];
+        snprintf(count, sizeof count, "%zu", mats.embedded_textures);
+        desc_add(desc, desclen, &dl, 0, " (embedded textures skipped: ", count, ")");
+    }
+    const size_t embedded = mats.embedded_textures;
+    bg_mesh_free(&mats);
     free(used), used = NULL;
     if (textured && !t->any_height &&
         (need_texture(o, RENDER_LISTING1_HEIGHTMAP) || need_texture(o, RENDER_LISTING1_HEIGHTMAP_CENTRAL) ||
@@ -714,8 +500,9 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
          o->preset == PRESET_FIG4)) {
         s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                      "--mesh \"%s\": no height texture: give --height-map or --albedo (its "
-                     "material library names none)",
-                     o->mesh_path);
+                     "materials name none%s)",
+                     o->mesh_path,
+                     embedded ? "; textures embedded in the file are not extracted" : "");
         goto fail;
     }
     if (need_texture(o, RENDER_NORMALMAP) && !t->any_nmap) {
@@ -726,7 +513,8 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     }
     return BG_OK;
 fail:
-    free(mt), free(used);
+    bg_mesh_free(&mats);
+    free(used);
     render_textures_free(t);
     render_mesh_free(m);
     return s;
