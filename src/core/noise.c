@@ -220,30 +220,51 @@ static int batch_ready(size_t n, int fractal, const bg_fractal *f, const void *x
     return *st == BG_OK;
 }
 
+/* A batch of one point takes the single-point path: the same bits (the point
+ * functions equal the batch kernels, tests/kernels/check_grid.c), without the
+ * vector kernel's masked-tail set-up, which costs more than the point itself
+ * (issue 10: a batch call with n = 1 within 1.3x of the single-point call). */
 bg_status bg_noise3_batch(const float *x, const float *y, const float *z, size_t n, float *value)
 {
     bg_status s;
-    if (batch_ready(n, 0, NULL, x, y, z, value, value, value, &s))
+    if (!batch_ready(n, 0, NULL, x, y, z, value, value, value, &s))
+        return s;
+    if (n == 1)
+        value[0] = bg_noise3_point_c(x[0], y[0], z[0]);
+    else
         bg_kernels()->noise3(x, y, z, n, value);
-    return s;
+    return BG_OK;
 }
 
 bg_status bg_noise3_grad_batch(const float *x, const float *y, const float *z, size_t n,
                                float *value, float *gx, float *gy, float *gz)
 {
     bg_status s;
-    if (batch_ready(n, 0, NULL, x, y, z, gx, gy, gz, &s))
+    if (!batch_ready(n, 0, NULL, x, y, z, gx, gy, gz, &s))
+        return s;
+    if (n == 1) {
+        float g[3], v = bg_noise3_grad_point_c(x[0], y[0], z[0], g);
+        if (value)
+            value[0] = v;
+        gx[0] = g[0], gy[0] = g[1], gz[0] = g[2];
+    } else {
         bg_kernels()->noise3_grad(x, y, z, n, value, gx, gy, gz);
-    return s;
+    }
+    return BG_OK;
 }
 
 bg_status bg_fractal3_batch(const bg_fractal *f, const float *x, const float *y, const float *z,
                             size_t n, float *value)
 {
     bg_status s;
-    if (batch_ready(n, 1, f, x, y, z, value, value, value, &s))
-        bg_kernels()->fractal3(f, x, y, z, n, value);
-    return s;
+    if (!batch_ready(n, 1, f, x, y, z, value, value, value, &s))
+        return s;
+    const bg_kernel_table *k = bg_kernels();
+    if (n == 1)
+        value[0] = k->fractal3_point(f, x[0], y[0], z[0]);
+    else
+        k->fractal3(f, x, y, z, n, value);
+    return BG_OK;
 }
 
 bg_status bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const float *y,
@@ -251,9 +272,18 @@ bg_status bg_fractal3_grad_batch(const bg_fractal *f, const float *x, const floa
                                  float *gz)
 {
     bg_status s;
-    if (batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
-        bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
-    return s;
+    if (!batch_ready(n, 1, f, x, y, z, gx, gy, gz, &s))
+        return s;
+    const bg_kernel_table *k = bg_kernels();
+    if (n == 1) {
+        float g[3], v = k->fractal3_grad_point(f, x[0], y[0], z[0], g);
+        if (value)
+            value[0] = v;
+        gx[0] = g[0], gy[0] = g[1], gz[0] = g[2];
+    } else {
+        k->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    }
+    return BG_OK;
 }
 
 bg_status bg_fractal3_grad_central_batch(const bg_fractal *f, float h, const float *x,
