@@ -72,15 +72,17 @@ static void track(char *p)
     }
 }
 
-/* By name, so a caller may pass a copy of the registered string. */
-static void untrack(const char *p)
+/* By name, so a caller may pass a copy of the registered string. Returns the
+ * registered pointer (NULL if none): the path API frees its own copy. */
+static char *untrack(const char *p)
 {
     for (int i = 0; i < MAX_LIVE_TEMPS; i++) {
         char *cur = atomic_load(&live_temps[i]);
         if (cur && (cur == p || strcmp(cur, p) == 0) &&
             atomic_compare_exchange_strong(&live_temps[i], &cur, NULL))
-            return;
+            return cur;
     }
+    return NULL;
 }
 
 /* ---- helpers ---------------------------------------------------------------- */
@@ -327,9 +329,27 @@ char *bgt_safe_temp_path(const char *path, bgt_err *e)
     }
     int fd = -1;
     char *t = make_temp(path, &fd, e);
-    if (t)
-        close(fd);
-    return t;
+    if (!t)
+        return NULL;
+    close(fd);
+    /* The registry keeps `t` (the signal handler unlinks through it) until the
+     * commit or the discard; the caller gets a copy of its own to free. */
+    char *copy = dup_str(t);
+    if (!copy) {
+        unlink(t);
+        untrack(t);
+        free(t);
+        bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    return copy;
+}
+
+/* Unregisters a path-API temporary and frees the registry's string. */
+static void forget_path(const char *tmp_path)
+{
+    char *reg = untrack(tmp_path);
+    if (reg != tmp_path)
+        free(reg);
 }
 
 void bgt_safe_discard_path(const char *tmp_path)
@@ -337,7 +357,7 @@ void bgt_safe_discard_path(const char *tmp_path)
     if (!tmp_path)
         return;
     unlink(tmp_path);
-    untrack(tmp_path);
+    forget_path(tmp_path);
 }
 
 bg_status bgt_safe_commit_path(const char *tmp_path, const char *path, bgt_err *e)
@@ -365,7 +385,7 @@ bg_status bgt_safe_commit_path(const char *tmp_path, const char *path, bgt_err *
         bgt_safe_discard_path(tmp_path);
         return bgt_fail(e, BG_ERR_IO, "cannot write '%s': %s", path, strerror(err));
     }
-    untrack(tmp_path);
+    forget_path(tmp_path);
     sync_parent_dir(path);
     return BG_OK;
 }
