@@ -78,9 +78,11 @@ static const cli_opt bench_opts[] = {
     {.name = "kernels", .kind = CLI_KIND_STRING, .offset = A(kernels), .metavar = "LIST",
      .help = "comma-separated subset: noise3, noise3_grad, fbm3_grad, turbulence3_grad, "
              "turbulence3_grad_central, perturb_surfgrad, perturb_additive, perturb_height, "
-             "fbm3, noise3_point, noise3_grad_point, fbm3_point, fbm3_grad_point (per-point "
-             "calls, at the active ISA or --isa), noise3_n1, noise3_n4, noise3_n8, noise3_n16, "
-             "noise3_n64, noise3_n256 (batch calls of that many points), noise3_grid, "
+             "fbm3, noise3_point, noise3_grad_point, fbm3_point, fbm3_grad_point, "
+             "noise3_batch1_point (per-point calls, the last one bg_noise3_batch with n = 1, at "
+             "the active ISA or --isa), noise3_n1, noise3_n4, noise3_n8, noise3_n16, "
+             "noise3_n64, noise3_n256 (kernel-table batch calls of that many points on every "
+             "ISA), noise3_grid, "
              "fbm3_grid, fbm3_grad_grid (grid calls on a 128 x 128 x k lattice of the same "
              "sample count, step 1/8, at the active ISA or --isa), ours, peers, peer:<library>, "
              "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm)"},

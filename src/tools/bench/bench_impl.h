@@ -25,6 +25,7 @@ enum {
     K_NOISE3_GRAD_POINT,
     K_FBM3_POINT,
     K_FBM3_GRAD_POINT,
+    K_NOISE3_BATCH1_POINT, /* bg_noise3_batch(.., 1, ..) per point: the public n = 1 path */
     /* noise3 batch calls of a few points each (the batch kernel on each ISA). */
     K_NOISE3_N1,
     K_NOISE3_N4,

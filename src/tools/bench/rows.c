@@ -31,6 +31,7 @@ static const kernel_info kernels[K_COUNT] = {
     {"noise3_grad_point", BGT_PEER_GRAD_CENTRAL},
     {"fbm3_point", BGT_PEER_FBM},           /* bg_fractal3 6-octave fBm per point */
     {"fbm3_grad_point", BGT_PEER_FBM},
+    {"noise3_batch1_point", BGT_PEER_VALUE}, /* bg_noise3_batch with n = 1, per point */
     {"noise3_n1", BGT_PEER_VALUE},          /* noise3 batch calls of 1 point */
     {"noise3_n4", BGT_PEER_VALUE},
     {"noise3_n8", BGT_PEER_VALUE},
@@ -48,7 +49,7 @@ const char *const bgt_bench_peer_libraries[3] = {"stb_perlin", "libnoise", "glm"
 size_t bgt_bench_kernel_count(void) { return K_COUNT; }
 const char *bgt_bench_kernel_name(size_t k) { return k < K_COUNT ? kernels[k].name : NULL; }
 int bench_peer_op_of(int k) { return k >= 0 && k < K_COUNT ? kernels[k].peer_op : -1; }
-int bench_is_point(int k) { return k >= K_NOISE3_POINT && k <= K_FBM3_GRAD_POINT; }
+int bench_is_point(int k) { return k >= K_NOISE3_POINT && k <= K_NOISE3_BATCH1_POINT; }
 static int is_grid(int k) { return k >= K_NOISE3_GRID && k <= K_FBM3_GRAD_GRID; }
 int bench_at_active_isa(int k) { return bench_is_point(k) || is_grid(k); }
 
@@ -68,6 +69,9 @@ static void run_points(const bench_job *j, size_t b, size_t e)
         switch (j->kernel) {
         case K_NOISE3_POINT: d->v[i] = bg_noise3(d->px[i], d->py[i], d->pz[i]); continue;
         case K_FBM3_POINT: d->v[i] = bg_fractal3(&j->fbm, d->px[i], d->py[i], d->pz[i]); continue;
+        case K_NOISE3_BATCH1_POINT:
+            (void)bg_noise3_batch(d->px + i, d->py + i, d->pz + i, 1, d->v + i);
+            continue;
         case K_NOISE3_GRAD_POINT: d->v[i] = bg_noise3_grad(d->px[i], d->py[i], d->pz[i], &g); break;
         default: d->v[i] = bg_fractal3_grad(&j->fbm, d->px[i], d->py[i], d->pz[i], &g); break;
         }
