@@ -209,7 +209,7 @@ typedef struct render_opts {
     render_preset preset;
     render_tracer tracer;
     /* A mesh file (any format assimp reads) instead of the built-in scenes,
-     * and its textures (NULL: the ones its OBJ material names, if any). */
+     * and its textures (NULL: the ones its materials name, bg_mesh.materials). */
     const char *mesh_path, *height_map, *normal_map, *albedo_map;
     float tex_amplitude; /* height of texel value 1 in units of the mesh's bounding radius */
     float st_scale;      /* texture-coordinate scale (< 1 magnifies the textures) */
@@ -263,7 +263,7 @@ bg_status render_image(const render_opts *o, render_result *r, bgt_err *e);
 /* Load a mesh (bg_mesh_load) into a render_mesh centred at the origin and
  * scaled to fit the unit sphere, with UVs when the file has them, mikkTSpace
  * tangents when the normalmap method is rendered, the material of each
- * triangle (an OBJ's usemtl) and each material's textures (render_textured.c). Errors name the file:
+ * triangle (bg_mesh.material, any format assimp reads) and each material's textures (render_textured.c). Errors name the file:
  * BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT (exit 2) for a missing, unreadable
  * or corrupt mesh or texture, or a textured method on a mesh without UVs.
  * No BVH: the caller builds Embree's or render_mesh_bvh. */
