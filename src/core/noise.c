@@ -69,6 +69,24 @@ static float max_unscaled(float fmax)
     return q;
 }
 
+/* Largest p >= 0 with p * fr, rounded in the type T, <= q (q, fr > 0): start
+ * from q / fr (FLT_MAX/DBL_MAX if that overflows), then step by ulps. One loop
+ * for the float and the double bounds. */
+#define BG_LARGEST_SCALED_BELOW(name, T, NEXTAFTER, T_MAX)                  \
+    static T name(T q, T fr)                                               \
+    {                                                                      \
+        T p = q / fr;                                                      \
+        if (!isfinite(p))                                                  \
+            p = T_MAX;                                                     \
+        while (p > 0 && !(p * fr <= q))                                    \
+            p = NEXTAFTER(p, 0);                                           \
+        while (p < T_MAX && NEXTAFTER(p, INFINITY) * fr <= q)              \
+            p = NEXTAFTER(p, INFINITY);                                    \
+        return p;                                                          \
+    }
+BG_LARGEST_SCALED_BELOW(largest_scaled_below_f, float, nextafterf, FLT_MAX)
+BG_LARGEST_SCALED_BELOW(largest_scaled_below_d, double, nextafter, DBL_MAX)
+
 float bg_fractal_max_coordinate(const bg_fractal *f, float frequency)
 {
     double sv, sg;
@@ -79,15 +97,7 @@ float bg_fractal_max_coordinate(const bg_fractal *f, float frequency)
     float q = max_unscaled(top), fr = fabsf(frequency);
     if (fr == 0 || FLT_MAX * fr <= q)
         return FLT_MAX;
-    /* Largest p with p * fr (rounded) <= q: start from q / fr, then step. */
-    float p = q / fr;
-    if (!isfinite(p))
-        p = FLT_MAX;
-    while (p > 0 && !(p * fr <= q))
-        p = nextafterf(p, 0);
-    while (p < FLT_MAX && nextafterf(p, INFINITY) * fr <= q)
-        p = nextafterf(p, INFINITY);
-    return p;
+    return largest_scaled_below_f(q, fr);
 }
 
 double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
@@ -99,22 +109,12 @@ double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
     double freq = 1, fmax = 1;
     for (int i = 0; i < octaves; i++, freq *= f->lacunarity)
         fmax = freq > fmax ? freq : fmax;
-    double q = DBL_MAX / fmax;
-    while (q > 0 && !isfinite(q * fmax))
-        q = nextafter(q, 0);
-    while (q < DBL_MAX && isfinite(nextafter(q, INFINITY) * fmax))
-        q = nextafter(q, INFINITY);
+    /* Largest q with q * fmax finite, i.e. q * fmax <= DBL_MAX (fmax >= 1). */
+    double q = largest_scaled_below_d(DBL_MAX, fmax);
     double fr = fabs(frequency);
     if (fr == 0 || DBL_MAX * fr <= q)
         return DBL_MAX;
-    double p = q / fr;
-    if (!isfinite(p))
-        p = DBL_MAX;
-    while (p > 0 && !(p * fr <= q))
-        p = nextafter(p, 0);
-    while (p < DBL_MAX && nextafter(p, INFINITY) * fr <= q)
-        p = nextafter(p, INFINITY);
-    return p;
+    return largest_scaled_below_d(q, fr);
 }
 
 /* Per-point noise goes straight to the scalar point functions (kernels.h): the
