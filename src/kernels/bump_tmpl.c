@@ -72,6 +72,9 @@ BG_INLINE vhash vi_hashp(vi X, vi Y, vi Z)
 }
 BG_INLINE vi vh_corner(vhash s, int k) { return s.h[k]; }
 #endif
+#ifdef BG_HAVE_HASHP
+#define BG_PIPELINE 1
+#endif
 
 /* One corner: the value grad(hash, dx, dy, dz) of the reference and, for the
  * analytic gradient, the corner's gradient vector. The reference (Perlin 2002):
@@ -351,11 +354,14 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
     const bg_real gain = (bg_real)f->gain, lac = (bg_real)f->lacunarity;
     corner s;
     s.v = s.gx = s.gy = s.gz = vf_set1(0);
+#ifdef BG_PIPELINE
     /* Octave i + 1's hash chain is started before octave i's corners (noise_at). */
     vf fq = vf_set1(freq);
     vf px = vf_mul(x, fq), py = vf_mul(y, fq), pz = vf_mul(z, fq);
     vhash hs = noise_cell(px, py, pz);
+#endif
     for (int i = 0; i < octaves; i++) {
+#ifdef BG_PIPELINE
         vf nx = px, ny = py, nz = pz;
         vhash next = hs;
         if (i + 1 < octaves) {
@@ -365,6 +371,10 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
         }
         corner o = noise_at(hs, px, py, pz, want_grad);
         px = nx, py = ny, pz = nz, hs = next;
+#else
+        vf fq = vf_set1(freq);
+        corner o = noise_vec(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq), want_grad);
+#endif
         vf a = vf_set1(amp), af = vf_set1(amp * freq);
         if (use_fp) {
             vf w = octave_weight(fp, freq);
@@ -529,7 +539,13 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
 
 /* Full vectors from i while two or more are left, each vector's hash chain
  * started one step ahead (noise_cell): i is left at the first vector the
- * caller's BG_FOR_BATCH loop still has to do. AT(hs, p) is the work at p. */
+ * caller's BG_FOR_BATCH loop still has to do. AT(hs, p) is the work at p.
+ * Only where the hashes are packed (BG_PIPELINE): with 8 hash registers to
+ * carry, or a libm floor computed twice (the scalar kernel), it costs more
+ * than it hides (the sse2 and scalar rows of docs/PERFORMANCE.md). */
+#ifndef BG_PIPELINE
+#define BG_PIPELINED(i, n, AT)
+#else
 #define BG_PIPELINED(i, n, AT)                                                                  \
     if ((n) >= 2 * LANES) {                                                                    \
         vhash hs_ = noise_cell(vf_loadn(x, LANES), vf_loadn(y, LANES), vf_loadn(z, LANES));    \
@@ -543,6 +559,7 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
         AT(hs_, i);                                                                            \
         i += LANES;                                                                            \
     }
+#endif
 
 void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
 {
