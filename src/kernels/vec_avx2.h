@@ -159,8 +159,20 @@ BG_VEC_INLINE __m256i bg_hash_hz(vi X, vi Y, vi Z)
 #else
     __m256i ab = _mm256_add_epi8(bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(X, b0), plus0101)), yb);
 #endif
+#ifdef BG_VEC_GATHER2
+    /* The second step by two more gathers of the pair table: 31 instead of 38
+     * instructions per sample, and slower (docs/PERFORMANCE.md). */
+    (void)ab, (void)b01, (void)plus0101;
+    __m256i m8 = _mm256_set1_epi32(255);
+    __m256i A = _mm256_and_si256(_mm256_add_epi32(q, Y), m8);
+    __m256i B = _mm256_and_si256(_mm256_add_epi32(_mm256_srli_epi32(q, 8), Y), m8);
+    __m256i qa = _mm256_i32gather_epi32(bg_perm_pair, A, 4), qb = _mm256_i32gather_epi32(bg_perm_pair, B, 4);
+    __m256i pq = _mm256_or_si256(_mm256_and_si256(qa, _mm256_set1_epi32(0xffff)), _mm256_slli_epi32(qb, 16));
+    return _mm256_add_epi8(pq, zb);
+#else
     __m256i i2 = _mm256_add_epi8(_mm256_shuffle_epi8(ab, b01), plus0101);
     return _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+#endif
 }
 
 #ifndef BG_VEC_BYTE_CORNERS
