@@ -31,6 +31,51 @@ BG_INLINE vf dfade(vf t)
     return vf_mul(vf_mul(vf_set1(30), vf_mul(t, t)), q);
 }
 
+#if !defined(BG_HAVE_HASH8) && !defined(BG_HAVE_HASHP)
+/* The reference's hash chain A = p[X]+Y, AA = p[A]+Z, ... and the 8 corner
+ * hashes p[AA], p[AA+1], ... Every index is used modulo 256 (the 512-entry table
+ * is two copies), and the chain always needs p[i] together with p[i+1]: one
+ * bg_perm_pair lookup gives both, so 7 lookups replace Perlin's 12 (a gather is
+ * the expensive step on every ISA). h[k] is the hash of corner k (bit 0: x + 1,
+ * bit 1: y + 1, bit 2: z + 1) in its low 8 bits; higher bits are the other
+ * corner's (vf_lut16 uses only the low 4). A vocabulary may provide its own
+ * vi_hash8 with the same low 4 bits per corner. */
+BG_INLINE void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+{
+    vi m = vi_set1(255);
+    vi q = vi_perm2(X);
+    vi A = vi_add(vi_and(q, m), Y), B = vi_add(vi_srl8(q), Y);
+    vi qa = vi_perm2(A), qb = vi_perm2(B);
+    vi AA = vi_add(vi_and(qa, m), Z), AB = vi_add(vi_srl8(qa), Z);
+    vi BA = vi_add(vi_and(qb, m), Z), BB = vi_add(vi_srl8(qb), Z);
+    vi q00 = vi_perm2(AA), q01 = vi_perm2(AB), q10 = vi_perm2(BA), q11 = vi_perm2(BB);
+    h[0] = q00, h[4] = vi_srl8(q00); /* p[AA], p[AA+1] */
+    h[2] = q01, h[6] = vi_srl8(q01); /* p[AB], p[AB+1] */
+    h[1] = q10, h[5] = vi_srl8(q10); /* p[BA], p[BA+1] */
+    h[3] = q11, h[7] = vi_srl8(q11); /* p[BB], p[BB+1] */
+}
+#endif
+
+#ifndef BG_HAVE_HASHP
+/* The hashes of a cell's 8 corners, as the corner code reads them: vh_corner(s,
+ * k) has corner k's hash in its low 4 bits. A vocabulary may keep them packed
+ * in fewer registers (vec_avx2.h: one), which lets the batch loops carry them
+ * from one step to the next (noise_cell). */
+typedef struct vhash {
+    vi h[8];
+} vhash;
+BG_INLINE vhash vi_hashp(vi X, vi Y, vi Z)
+{
+    vhash s;
+    vi_hash8(X, Y, Z, s.h);
+    return s;
+}
+BG_INLINE vi vh_corner(vhash s, int k) { return s.h[k]; }
+#endif
+#ifdef BG_HAVE_HASHP
+#define BG_PIPELINE 1
+#endif
+
 /* One corner: the value grad(hash, dx, dy, dz) of the reference and, for the
  * analytic gradient, the corner's gradient vector. The reference (Perlin 2002):
  *     u = h<8 ? x : y;  v = h<4 ? y : (h==12||h==14 ? x : z);
@@ -71,17 +116,18 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, int ck)
     return vf_add(vf_add(vf_mul(gx, dx), vf_mul(gy, dy)), vf_mul(gz, dz));
 }
 
-BG_INLINE corner grad_corner_v(vi hash, vf dx, vf dy, vf dz, int ck)
+BG_INLINE corner grad_corner_v(vhash hs, int ck, vf dx, vf dy, vf dz)
 {
     corner c;
-    c.v = grad_value(hash, dx, dy, dz, ck);
+    c.v = grad_value(vh_corner(hs, ck), dx, dy, dz, ck);
     c.gx = c.gy = c.gz = 0;
     return c;
 }
 
-BG_INLINE corner grad_corner(vi hash, vf dx, vf dy, vf dz, int ck)
+BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
 {
     corner c;
+    vi hash = vh_corner(hs, ck);
     c.v = grad_value(hash, dx, dy, dz, ck);
     c.gx = grad_tab_x[hash & 15], c.gy = grad_tab_y[hash & 15], c.gz = grad_tab_z[hash & 15];
     return c;
@@ -96,23 +142,32 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, vm lt4, vm x1214)
     return vf_add(vf_flip_bit(u, hash, 0), vf_flip_bit(v, hash, 1));
 }
 
-BG_INLINE corner grad_corner_v(vi hash, vf dx, vf dy, vf dz, int ck)
+#ifndef BG_HAVE_CORNER_MASKS
+BG_INLINE void corner_masks(vhash hs, int ck, vm *lt4, vm *x1214)
+{
+    vi hash = vh_corner(hs, ck);
+    *lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
+    *x1214 = vi_eq(vi_and(hash, vi_set1(13)), vi_set1(12));
+}
+#endif
+
+BG_INLINE corner grad_corner_v(vhash hs, int ck, vf dx, vf dy, vf dz)
 {
     corner c;
-    (void)ck;
-    vm lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
-    vm x1214 = vi_eq(vi_and(hash, vi_set1(13)), vi_set1(12));
+    vi hash = vh_corner(hs, ck);
+    vm lt4, x1214;
+    corner_masks(hs, ck, &lt4, &x1214);
     c.v = grad_value(hash, dx, dy, dz, lt4, x1214);
     c.gx = c.gy = c.gz = vf_set1(0);
     return c;
 }
 
-BG_INLINE corner grad_corner(vi hash, vf dx, vf dy, vf dz, int ck)
+BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
 {
     corner c;
-    (void)ck;
-    vm lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
-    vm x1214 = vi_eq(vi_and(hash, vi_set1(13)), vi_set1(12));
+    vi hash = vh_corner(hs, ck);
+    vm lt4, x1214;
+    corner_masks(hs, ck, &lt4, &x1214);
     c.v = grad_value(hash, dx, dy, dz, lt4, x1214);
     /* d/dx etc. of the value: +-1 on the u and v axes, +0 on the third. */
     vf zero = vf_set1(0);
@@ -177,58 +232,43 @@ BG_INLINE vf lattice(vf x, vi *cell)
     return vf_sub(x, fl);
 }
 
-#ifndef BG_HAVE_HASH8
-/* The reference's hash chain A = p[X]+Y, AA = p[A]+Z, ... and the 8 corner
- * hashes p[AA], p[AA+1], ... Every index is used modulo 256 (the 512-entry table
- * is two copies), and the chain always needs p[i] together with p[i+1]: one
- * bg_perm_pair lookup gives both, so 7 lookups replace Perlin's 12 (a gather is
- * the expensive step on every ISA). h[k] is the hash of corner k (bit 0: x + 1,
- * bit 1: y + 1, bit 2: z + 1) in its low 8 bits; higher bits are the other
- * corner's (vf_lut16 uses only the low 4). A vocabulary may provide its own
- * vi_hash8 with the same low 4 bits per corner. */
-BG_INLINE void vi_hash8(vi X, vi Y, vi Z, vi h[8])
-{
-    vi m = vi_set1(255);
-    vi q = vi_perm2(X);
-    vi A = vi_add(vi_and(q, m), Y), B = vi_add(vi_srl8(q), Y);
-    vi qa = vi_perm2(A), qb = vi_perm2(B);
-    vi AA = vi_add(vi_and(qa, m), Z), AB = vi_add(vi_srl8(qa), Z);
-    vi BA = vi_add(vi_and(qb, m), Z), BB = vi_add(vi_srl8(qb), Z);
-    vi q00 = vi_perm2(AA), q01 = vi_perm2(AB), q10 = vi_perm2(BA), q11 = vi_perm2(BB);
-    h[0] = q00, h[4] = vi_srl8(q00); /* p[AA], p[AA+1] */
-    h[2] = q01, h[6] = vi_srl8(q01); /* p[AB], p[AB+1] */
-    h[1] = q10, h[5] = vi_srl8(q10); /* p[BA], p[BA+1] */
-    h[3] = q11, h[7] = vi_srl8(q11); /* p[BB], p[BB+1] */
-}
-#endif
 
-/* Improved noise at one vector of points; the gradient only when `want_grad`
- * (a constant after inlining, so the value-only kernel does no gradient work). */
-BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
+/* Improved noise in two steps: noise_cell is the lattice cell and its hash
+ * chain, noise_at the rest (fractions, fade, corners, lerps). The batch loops
+ * start the next vector's chain (a gather and three dependent table lookups)
+ * before this vector's corners, so the out-of-order core overlaps the two;
+ * the operations and so the bits are the same as in one step. noise_at
+ * recomputes the fractions rather than carrying them (3 registers). */
+BG_INLINE vhash noise_cell(vf x, vf y, vf z)
 {
     vi X, Y, Z;
+    (void)lattice(x, &X), (void)lattice(y, &Y), (void)lattice(z, &Z);
+    return vi_hashp(X, Y, Z);
+}
+
+/* The gradient only when `want_grad` (a constant after inlining, so the
+ * value-only kernel does no gradient work). */
+BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
+{
+    vi X, Y, Z; /* unused here: noise_cell's */
     vf fx = lattice(x, &X), fy = lattice(y, &Y), fz = lattice(z, &Z);
     vf u = fade(fx), v = fade(fy), w = fade(fz);
 
     vf x1 = vf_sub(fx, vf_set1(1)), y1 = vf_sub(fy, vf_set1(1)), z1 = vf_sub(fz, vf_set1(1));
-    vi h[8];
-    vi_hash8(X, Y, Z, h);
     if (!want_grad) {
-        corner c000 = grad_corner_v(h[0], fx, fy, fz, 0);
-        corner c100 = grad_corner_v(h[1], x1, fy, fz, 1);
-        corner c010 = grad_corner_v(h[2], fx, y1, fz, 2);
-        corner c110 = grad_corner_v(h[3], x1, y1, fz, 3);
-        corner c001 = grad_corner_v(h[4], fx, fy, z1, 4);
-        corner c101 = grad_corner_v(h[5], x1, fy, z1, 5);
-        corner c011 = grad_corner_v(h[6], fx, y1, z1, 6);
-        corner c111 = grad_corner_v(h[7], x1, y1, z1, 7);
-        /* lerp(w, lerp(v, lerp(u, ..), lerp(u, ..)), lerp(v, ..)) exactly as the reference. */
+        /* lerp(w, lerp(v, lerp(u, ..), lerp(u, ..)), lerp(v, ..)) exactly as the
+         * reference, each corner pair folded as soon as it is formed (fewer
+         * live registers than forming all eight first; the same operations). */
         corner r;
-        vf a0 = vf_add(c000.v, vf_mul(u, vf_sub(c100.v, c000.v)));
-        vf a1 = vf_add(c010.v, vf_mul(u, vf_sub(c110.v, c010.v)));
-        vf a2 = vf_add(c001.v, vf_mul(u, vf_sub(c101.v, c001.v)));
-        vf a3 = vf_add(c011.v, vf_mul(u, vf_sub(c111.v, c011.v)));
+        vf c000 = grad_corner_v(hs, 0, fx, fy, fz).v, c100 = grad_corner_v(hs, 1, x1, fy, fz).v;
+        vf a0 = vf_add(c000, vf_mul(u, vf_sub(c100, c000)));
+        vf c010 = grad_corner_v(hs, 2, fx, y1, fz).v, c110 = grad_corner_v(hs, 3, x1, y1, fz).v;
+        vf a1 = vf_add(c010, vf_mul(u, vf_sub(c110, c010)));
         vf b0 = vf_add(a0, vf_mul(v, vf_sub(a1, a0)));
+        vf c001 = grad_corner_v(hs, 4, fx, fy, z1).v, c101 = grad_corner_v(hs, 5, x1, fy, z1).v;
+        vf a2 = vf_add(c001, vf_mul(u, vf_sub(c101, c001)));
+        vf c011 = grad_corner_v(hs, 6, fx, y1, z1).v, c111 = grad_corner_v(hs, 7, x1, y1, z1).v;
+        vf a3 = vf_add(c011, vf_mul(u, vf_sub(c111, c011)));
         vf b1 = vf_add(a2, vf_mul(v, vf_sub(a3, a2)));
         r.v = vf_add(b0, vf_mul(w, vf_sub(b1, b0)));
         r.gx = r.gy = r.gz = vf_set1(0);
@@ -239,13 +279,18 @@ BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
      * all eight): 8 corners x 4 vectors live at once do not fit the 32 AVX-512
      * registers next to the rest and were spilled to the stack. */
     vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
-    corner a0 = lerp_x(u, du, grad_corner(h[0], fx, fy, fz, 0), grad_corner(h[1], x1, fy, fz, 1));
-    corner a1 = lerp_x(u, du, grad_corner(h[2], fx, y1, fz, 2), grad_corner(h[3], x1, y1, fz, 3));
+    corner a0 = lerp_x(u, du, grad_corner(hs, 0, fx, fy, fz), grad_corner(hs, 1, x1, fy, fz));
+    corner a1 = lerp_x(u, du, grad_corner(hs, 2, fx, y1, fz), grad_corner(hs, 3, x1, y1, fz));
     corner b0 = lerp_y(v, dv, a0, a1);
-    corner a2 = lerp_x(u, du, grad_corner(h[4], fx, fy, z1, 4), grad_corner(h[5], x1, fy, z1, 5));
-    corner a3 = lerp_x(u, du, grad_corner(h[6], fx, y1, z1, 6), grad_corner(h[7], x1, y1, z1, 7));
+    corner a2 = lerp_x(u, du, grad_corner(hs, 4, fx, fy, z1), grad_corner(hs, 5, x1, fy, z1));
+    corner a3 = lerp_x(u, du, grad_corner(hs, 6, fx, y1, z1), grad_corner(hs, 7, x1, y1, z1));
     corner b1 = lerp_y(v, dv, a2, a3);
     return lerp_z(w, dw, b0, b1);
+}
+
+BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
+{
+    return noise_at(noise_cell(x, y, z), x, y, z, want_grad);
 }
 
 /* ---- fBm and turbulence (Perlin 1985) -------------------------------------- */
@@ -307,9 +352,27 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
     const bg_real gain = (bg_real)f->gain, lac = (bg_real)f->lacunarity;
     corner s;
     s.v = s.gx = s.gy = s.gz = vf_set1(0);
+#ifdef BG_PIPELINE
+    /* Octave i + 1's hash chain is started before octave i's corners (noise_at). */
+    vf fq = vf_set1(freq);
+    vf px = vf_mul(x, fq), py = vf_mul(y, fq), pz = vf_mul(z, fq);
+    vhash hs = noise_cell(px, py, pz);
+#endif
     for (int i = 0; i < octaves; i++) {
+#ifdef BG_PIPELINE
+        vf nx = px, ny = py, nz = pz;
+        vhash next = hs;
+        if (i + 1 < octaves) {
+            vf nfq = vf_set1(freq * lac);
+            nx = vf_mul(x, nfq), ny = vf_mul(y, nfq), nz = vf_mul(z, nfq);
+            next = noise_cell(nx, ny, nz);
+        }
+        corner o = noise_at(hs, px, py, pz, want_grad);
+        px = nx, py = ny, pz = nz, hs = next;
+#else
         vf fq = vf_set1(freq);
         corner o = noise_vec(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq), want_grad);
+#endif
         vf a = vf_set1(amp), af = vf_set1(amp * freq);
         if (use_fp) {
             vf w = octave_weight(fp, freq);
@@ -446,8 +509,9 @@ BG_INLINE v3 perturb_vec(bg_perturb_method method, v3 n, v3 g)
  * One stride loop each; the last partial vector is read and written with
  * vf_loadn/vf_storen (count c < LANES), so tails take the same arithmetic path. */
 
-#define BG_FOR_BATCH(i, c, n) \
-    for (size_t i = 0, c; i < (n) && ((c = ((n) - i < LANES ? (n) - i : LANES)), 1); i += LANES)
+#define BG_FOR_BATCH_FROM(i, c, i0, n) \
+    for (size_t i = (i0), c; i < (n) && ((c = ((n) - i < LANES ? (n) - i : LANES)), 1); i += LANES)
+#define BG_FOR_BATCH(i, c, n) BG_FOR_BATCH_FROM(i, c, 0, n)
 
 /* Every output goes through vf_canon: a NaN result is the one canonical quiet
  * NaN on every ISA (x86 arithmetic makes the "default NaN" with the sign bit
@@ -471,9 +535,41 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
 /* p + k, or NULL for an optional output that is absent. */
 #define BG_OPT(p, k) ((p) ? (p) + (k) : NULL)
 
+/* Full vectors from i while two or more are left, each vector's hash chain
+ * started one step ahead (noise_cell): i is left at the first vector the
+ * caller's BG_FOR_BATCH loop still has to do. AT(hs, p) is the work at p.
+ * Only where the hashes are packed (BG_PIPELINE): with 8 hash registers to
+ * carry, or a libm floor computed twice (the scalar kernel), it costs more
+ * than it hides (the sse2 and scalar rows of docs/PERFORMANCE.md). */
+#ifndef BG_PIPELINE
+#define BG_PIPELINED(i, n, AT)
+#else
+#define BG_PIPELINED(i, n, AT)                                                                  \
+    if ((n) >= 2 * LANES) {                                                                    \
+        vhash hs_ = noise_cell(vf_loadn(x, LANES), vf_loadn(y, LANES), vf_loadn(z, LANES));    \
+        for (; i + 2 * LANES <= (n); i += LANES) {                                             \
+            size_t j_ = i + LANES;                                                             \
+            vhash next_ = noise_cell(vf_loadn(x + j_, LANES), vf_loadn(y + j_, LANES),         \
+                                     vf_loadn(z + j_, LANES));                                 \
+            AT(hs_, i);                                                                        \
+            hs_ = next_;                                                                       \
+        }                                                                                      \
+        AT(hs_, i);                                                                            \
+        i += LANES;                                                                            \
+    }
+#endif
+
 void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
 {
-    BG_FOR_BATCH(i, c, BG_VEC_N(n))
+    size_t i0 = 0;
+#define NOISE3_AT(hs, p)                                                                        \
+    store_out(v + (p),                                                                          \
+              noise_at(hs, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),                  \
+                       vf_loadn(z + (p), LANES), 0).v,                                          \
+              LANES)
+    BG_PIPELINED(i0, BG_VEC_N(n), NOISE3_AT)
+#undef NOISE3_AT
+    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
     {
         corner r = noise_vec(vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0);
         store_out(v + i, r.v, c);

@@ -15,6 +15,9 @@ extern const int32_t bg_perm512[512];
 extern const uint8_t bg_perm256_u8[256];
 /* bg_perm_pair[i] = p[i] | p[(i + 1) & 255] << 8, for the 7-lookup hash chain. */
 extern const int32_t bg_perm_pair[256];
+/* bg_perm_nib2[i] = (p[i] & 15) | (p[(i + 1) & 255] & 15) << 4: two corner
+ * hashes (their low 4 bits) in one byte, for the last step of the chain. */
+extern const uint8_t bg_perm_nib2[256];
 
 typedef struct bg_kernel_table {
     bg_isa isa;

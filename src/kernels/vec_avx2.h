@@ -13,6 +13,10 @@
 #include <float.h>
 #include "kernels.h"
 
+/* gcc declines to inline the hash chain (large): a call would spill every
+ * live vector register around it (all are caller-saved). */
+#define BG_VEC_INLINE static inline __attribute__((always_inline))
+
 #define BG_ISA_SUFFIX avx2
 #define BG_ISA_ENUM BG_ISA_AVX2
 #define BG_REAL_MAX FLT_MAX
@@ -116,9 +120,9 @@ static inline vi vi_srl8(vi a) { return _mm256_srli_epi32(a, 8); }
  * bump_tmpl.c), -DBG_VEC_PSHUFB_FIRST the first step by bg_perm_bytes too:
  * the alternatives measured in docs/KERNELS.md. */
 #ifndef BG_VEC_GATHER
-static inline __m256i bg_perm_bytes(__m256i idx)
+BG_VEC_INLINE __m256i bg_perm_bytes_of(const uint8_t *tab, __m256i idx)
 {
-    const __m128i *t = (const __m128i *)(const void *)bg_perm256_u8;
+    const __m128i *t = (const __m128i *)(const void *)tab;
     __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
     __m256i r[16];
     for (int k = 0; k < 16; k++)
@@ -134,16 +138,16 @@ static inline __m256i bg_perm_bytes(__m256i idx)
         r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
     return _mm256_blendv_epi8(r[0], r[1], idx); /* bit 7 */
 }
+static inline __m256i bg_perm_bytes(__m256i idx) { return bg_perm_bytes_of(bg_perm256_u8, idx); }
 
 /* The byte-lane chain of the AVX-512 VBMI variant (vec_avx512.h explains the
  * layout): four indices per dword, every index modulo 256 (vpaddb wraps as the
- * doubled table would), 4 bg_perm_bytes calls for 8 points. */
-#define BG_HAVE_HASH8 1
-static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+ * doubled table would). bg_hash_hz gives AA, AB, BA, BB as the bytes of each
+ * point's dword. */
+BG_VEC_INLINE __m256i bg_hash_hz(vi X, vi Y, vi Z)
 {
     const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
     const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
-    const __m256i b23 = _mm256_broadcastsi128_si256(_mm_setr_epi8(2, 2, 3, 3, 6, 6, 7, 7, 10, 10, 11, 11, 14, 14, 15, 15));
     const __m256i plus0101 = _mm256_set1_epi32(0x01000100);
     __m256i yb = _mm256_shuffle_epi8(Y, b0), zb = _mm256_shuffle_epi8(Z, b0);
 #ifndef BG_VEC_PSHUFB_FIRST
@@ -155,8 +159,62 @@ static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
 #else
     __m256i ab = _mm256_add_epi8(bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(X, b0), plus0101)), yb);
 #endif
+#ifdef BG_VEC_GATHER2
+    /* The second step by two more gathers of the pair table: 31 instead of 38
+     * instructions per sample, and slower (docs/PERFORMANCE.md). */
+    (void)ab, (void)b01, (void)plus0101;
+    __m256i m8 = _mm256_set1_epi32(255);
+    __m256i A = _mm256_and_si256(_mm256_add_epi32(q, Y), m8);
+    __m256i B = _mm256_and_si256(_mm256_add_epi32(_mm256_srli_epi32(q, 8), Y), m8);
+    __m256i qa = _mm256_i32gather_epi32(bg_perm_pair, A, 4), qb = _mm256_i32gather_epi32(bg_perm_pair, B, 4);
+    __m256i pq = _mm256_or_si256(_mm256_and_si256(qa, _mm256_set1_epi32(0xffff)), _mm256_slli_epi32(qb, 16));
+    return _mm256_add_epi8(pq, zb);
+#else
     __m256i i2 = _mm256_add_epi8(_mm256_shuffle_epi8(ab, b01), plus0101);
-    __m256i hz = _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+    return _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+#endif
+}
+
+#ifndef BG_VEC_BYTE_CORNERS
+/* The last step needs only the low 4 bits of each corner hash: one lookup of
+ * bg_perm_nib2 per index gives p[i] & 15 and p[i + 1] & 15, so the 8 corners
+ * of 8 points are one bg_perm_bytes call, where full bytes took two (-DBG_VEC_
+ * BYTE_CORNERS; docs/PERFORMANCE.md has both). The packed hashes are one
+ * register (bump_tmpl.c's vhash): corner k's hash is bits 4j .. 4j+3 of each
+ * dword, bits above are other corners' (the corner code reads bits 0-3 only). */
+#define BG_HAVE_HASHP 1
+typedef __m256i vhash;
+BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm_nib2, bg_hash_hz(X, Y, Z)); }
+/* Corner k (bit 0: x + 1, bit 1: y + 1, bit 2: z + 1): nibble 0 p[AA], 1 p[AA+1],
+ * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
+static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
+static inline vi vh_corner(vhash l, int k) { return _mm256_srli_epi32(l, 4 * bg_corner_nib[k]); }
+/* The corner masks of bump_tmpl.c (h & 12 == 0, h & 13 == 12) for all 64
+ * nibbles at once: a vpshufb of a 16-entry table turns each nibble into a byte
+ * with bit 7 = (h < 4) and bit 6 = (h is 12 or 14); corner k's masks are then
+ * a shift that brings its byte's bit to the dword's sign bit, which is all
+ * vblendvps reads. The two table lookups are shared by the 8 corners (the
+ * compiler merges the repeated expressions), so a corner pays 2 shifts where
+ * an and and a compare each cost 4 instructions. */
+#define BG_HAVE_CORNER_MASKS 1
+static inline void corner_masks(vhash l, int k, vm *lt4, vm *x1214)
+{
+    const __m256i tab = _mm256_setr_epi8(-128, -128, -128, -128, 0, 0, 0, 0, 0, 0, 0, 0, 64, 0, 64, 0,
+                                         -128, -128, -128, -128, 0, 0, 0, 0, 0, 0, 0, 0, 64, 0, 64, 0);
+    int nib = bg_corner_nib[k], byte = nib >> 1;
+    __m256i src = nib & 1 ? _mm256_srli_epi32(l, 4) : l;
+    __m256i m = _mm256_shuffle_epi8(tab, _mm256_and_si256(src, _mm256_set1_epi8(15)));
+    *lt4 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 24 - 8 * byte));
+    *x1214 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 25 - 8 * byte));
+}
+#else
+#define BG_HAVE_HASH8 1
+static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+{
+    const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
+    const __m256i b23 = _mm256_broadcastsi128_si256(_mm_setr_epi8(2, 2, 3, 3, 6, 6, 7, 7, 10, 10, 11, 11, 14, 14, 15, 15));
+    const __m256i plus0101 = _mm256_set1_epi32(0x01000100);
+    __m256i hz = bg_hash_hz(X, Y, Z);
     __m256i la = bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(hz, b01), plus0101));
     __m256i lb = bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(hz, b23), plus0101));
     h[0] = la;                          /* 000: p[AA]   */
@@ -168,6 +226,7 @@ static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
     h[3] = _mm256_srli_epi32(lb, 16);   /* 110: p[BB]   */
     h[7] = _mm256_srli_epi32(lb, 24);   /* 111: p[BB+1] */
 }
+#endif
 #endif
 
 /* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
@@ -181,10 +240,14 @@ static inline vf vf_sel_bit(vi h, int b, vf a, vf c)
 {
     return _mm256_blendv_ps(c, a, _mm256_castsi256_ps(_mm256_slli_epi32(h, 31 - b)));
 }
+/* The flip as a product with +-1 from an 8-entry vpermps table indexed by
+ * hash bits 0-2 (2 instructions where shift, mask and xor are 3): a * -1 is
+ * the exact negation, zeros and infinities included, and NaN stays NaN (every
+ * output is canonicalized). */
 static inline vf vf_flip_bit(vf a, vi h, int b)
 {
-    vi s = _mm256_and_si256(_mm256_slli_epi32(h, 31 - b), _mm256_set1_epi32(INT32_MIN));
-    return _mm256_xor_ps(a, _mm256_castsi256_ps(s));
+    static const float sgn[2][8] = {{1, -1, 1, -1, 1, -1, 1, -1}, {1, 1, -1, -1, 1, 1, -1, -1}};
+    return _mm256_mul_ps(a, _mm256_permutevar8x32_ps(_mm256_loadu_ps(sgn[b]), h));
 }
 static inline vf vf_canon(vf a)
 {

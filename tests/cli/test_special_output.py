@@ -2,10 +2,11 @@
 """An output path that is a FIFO (or a device such as /dev/null) is written in
 place, never replaced by a renamed temporary file (which, as root, would turn
 /dev/null into a regular file)."""
-import os, stat, subprocess, sys, tempfile, threading
+import atexit, os, shutil, stat, subprocess, sys, tempfile, threading
 
 exe = sys.argv[1]
 tmp = tempfile.mkdtemp(prefix="bg-fifo-")
+atexit.register(shutil.rmtree, tmp, True)
 inp = os.path.join(tmp, "in.csv")
 with open(inp, "w") as f:
     f.write("x,y,z\n3.14,42,7\n")

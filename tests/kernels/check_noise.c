@@ -23,6 +23,8 @@ static void check_tables(void)
 #endif
         if (i < 256 && bg_perm_pair[i] != (p | bg_perm512[i + 1] << 8))
             fail("bg_perm_pair[i] != p[i] | p[i + 1] << 8");
+        if (i < 256 && bg_perm_nib2[i] != ((p & 15) | (bg_perm512[i + 1] & 15) << 4))
+            fail("bg_perm_nib2[i] != (p[i] & 15) | (p[i + 1] & 15) << 4");
     }
 }
 
