@@ -2,8 +2,9 @@
 """Images on "-": `render -o -` and `heightmap - -` stream through OpenImageIO's
 memory I/O (bg_image_write_as / bg_image_read_as), the report moves to stderr,
 a closed pipe is a clean exit 1, and the refusals (--json with -o -, --bits
-float with a PNG stream, a --format against the extension) are exit 2 naming
-the reason. The PNGs are decoded here with zlib, independently of the command.
+float with a PNG stream, a --format against the extension, a format the
+stream cannot carry) are exit 2 naming the reason; heightmap's --format and
+--input-format pick the formats on "-". The PNGs are decoded here with zlib, independently of the command.
 usage: test_image_stream.py BUMPGRAD"""
 import os
 import struct
@@ -114,6 +115,51 @@ rc, out, err = run(["heightmap", "--json", "-", "-"], src)
 check(rc == 2 and "--json" in err and out == b"", "heightmap --json with OUT - refused: %r" % err)
 rc, out, err = run(["heightmap", "-", "-"], b"not an image")
 check(rc == 2 and out == b"" and "error" in err, "garbage on stdin: exit 2: %r" % err)
+check("--input-format" in err, "garbage on stdin: the message says how to name its format: %r" % err)
+
+# heightmap --format: the format of OUT "-" (render --format's rule: a file's
+# extension decides, a --format against it is refused); --input-format: IN's.
+rc, out, err = run(["heightmap", "-", "-", "--format", "png", "--strength", "2"], src)
+rc2, out2, _ = run(["heightmap", "-", "-", "--strength", "2"], src)
+check(rc == 0 and rc2 == 0 and out == out2 and decodes(out, 24, 20),
+      "heightmap --format png -: the same bytes as without --format (rc %d, %r)" % (rc, err))
+rc, out, err = run(["heightmap", "-", "-", "--format", "exr", "--bits", "float"], src)
+check(rc == 0 and out[:4] == b"\x76\x2f\x31\x01",
+      "heightmap --format exr --bits float -: OpenEXR on stdout (rc %d, %r, %r)" % (rc, out[:4], err))
+rc, out, err = run(["heightmap", "-", "-", "--format", "tif", "--to-derivative"], src)
+check(rc == 0 and out[:4] == b"II*\x00",
+      "heightmap --to-derivative --format tif -: a float TIFF on stdout (rc %d, %r, %r)"
+      % (rc, out[:4], err))
+rc, out, err = run(["heightmap", "-", "-", "--format", "jpg", "--bits", "16"], src)
+check(rc == 2 and out == b"" and "jpg" in err and "16-bit" in err,
+      "heightmap --format jpg --bits 16 -: refused naming the format, exit 2: %r" % err)
+rc, out, err = run(["heightmap", "-", "-", "--format", "sgi"], src)
+check(rc == 2 and out == b"" and "sgi" in err,
+      "heightmap --format sgi - (not streamable): refused by name, exit 2: %r" % err)
+rc, out, err = run(["heightmap", "-", "-", "--format", "nosuch"], src)
+check(rc == 2 and out == b"" and "--format" in err and "nosuch" in err,
+      "heightmap --format nosuch: exit 2 naming the option: %r" % err)
+rc, out, err = run(["heightmap", "-", "-", "--input-format", "exr"], src)
+check(rc == 2 and out == b"" and "exr" in err,
+      "heightmap --input-format exr with a PNG on stdin: exit 2 naming the format: %r" % err)
+with tempfile.TemporaryDirectory() as d:
+    f = os.path.join(d, "in.png")
+    open(f, "wb").write(src)
+    o = os.path.join(d, "o.png")
+    rc, out, err = run(["heightmap", f, o, "--format", "exr"])
+    check(rc == 2 and "disagrees" in err and not os.path.exists(o),
+          "heightmap --format exr with OUT o.png: refused, no file: %r" % err)
+    rc, out, err = run(["heightmap", f, o, "--format", "PNG", "--strength", "2"])
+    check(rc == 0 and png_decode(open(o, "rb").read())[4] == png_decode(out2)[4],
+          "heightmap --format PNG with OUT o.png: agrees with the extension, same pixels")
+    # A TGA on stdin named by --input-format gives the pixels of the file.
+    t = os.path.join(d, "in.tga")
+    rc, _, err = run(["heightmap", f, t, "--bits", "8", "--strength", "0"])
+    tga = open(t, "rb").read() if rc == 0 else b""
+    rc, out, err = run(["heightmap", "-", "-", "--input-format", "tga", "--strength", "2"], tga)
+    rc2, _, _ = run(["heightmap", t, o, "--strength", "2"])
+    check(rc == 0 and rc2 == 0 and png_decode(out)[4] == png_decode(open(o, "rb").read())[4],
+          "heightmap --input-format tga - gives the pixels of the TGA file (rc %d, %r)" % (rc, err))
 
 # mesh --bake-normal-map -: refused with the reason until the mesh tool can
 # stream its map (the option is checked before the mesh is opened).
