@@ -4,7 +4,8 @@ memory I/O (bg_image_write_as / bg_image_read_as), the report moves to stderr,
 a closed pipe is a clean exit 1, and the refusals (--json with -o -, --bits
 float with a PNG stream, a --format against the extension, a format the
 stream cannot carry) are exit 2 naming the reason; heightmap's --format and
---input-format pick the formats on "-". The PNGs are decoded here with zlib, independently of the command.
+--input-format pick the formats on "-"; `mesh --bake-normal-map -` streams
+the map. The PNGs are decoded here with zlib, independently of the command.
 usage: test_image_stream.py BUMPGRAD"""
 import os
 import struct
@@ -161,10 +162,42 @@ with tempfile.TemporaryDirectory() as d:
     check(rc == 0 and rc2 == 0 and png_decode(out)[4] == png_decode(open(o, "rb").read())[4],
           "heightmap --input-format tga - gives the pixels of the TGA file (rc %d, %r)" % (rc, err))
 
-# mesh --bake-normal-map -: refused with the reason until the mesh tool can
-# stream its map (the option is checked before the mesh is opened).
-rc, out, err = run(["mesh", "no_such.ply", "--bake-normal-map", "-", "--size", "8"])
-check(rc == 2 and "standard output is not supported" in err and out == b"",
-      "mesh --bake-normal-map - refused clearly, exit 2: %r" % err)
+# mesh --bake-normal-map -: the map on stdout (--format, PNG by default), the
+# same bytes as the map file; the summary on stderr; refusals before the mesh
+# is opened: both outputs on "-", --json, a --format against a file's name.
+with tempfile.TemporaryDirectory() as d:
+    plane = os.path.join(d, "plane.obj")
+    with open(plane, "w") as f:
+        f.write("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nvt 0 0\nvt 1 0\n"
+                "vt 1 1\nvt 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
+    bake = ["mesh", plane, "--size", "16x12", "--amplitude", "0.05", "--frequency", "3"]
+    rc, out, err = run(bake + ["--bake-normal-map", "-"])
+    check(rc == 0 and decodes(out, 16, 12) and "bake: - 16x12" in err,
+          "mesh --bake-normal-map -: a 16x12 PNG on stdout, the summary on stderr (rc %d, %r)"
+          % (rc, err[-200:]))
+    f = os.path.join(d, "map.png")
+    rc2, out2, _ = run(bake + ["--bake-normal-map", f])
+    check(rc2 == 0 and os.path.exists(f) and open(f, "rb").read() == out and b"bake: " in out2,
+          "mesh --bake-normal-map -: the same bytes as the map file")
+    rc, out, err = run(bake + ["--bake-normal-map", "-", "--format", "exr"])
+    check(rc == 0 and out[:4] == b"\x76\x2f\x31\x01",
+          "mesh --bake-normal-map - --format exr: OpenEXR on stdout (rc %d, %r)" % (rc, err[-200:]))
+    ply = os.path.join(d, "o.ply")
+    rc, out, err = run(bake + [ply, "--bake-normal-map", "-"])
+    check(rc == 0 and decodes(out, 16, 12) and os.path.exists(ply),
+          "mesh OUT.ply --bake-normal-map -: the PLY file and the map on stdout (rc %d)" % rc)
+    rc, out, err = run(bake + ["--bake-normal-map", "-", "--format", "sgi"])
+    check(rc == 2 and out == b"" and "sgi" in err,
+          "mesh --bake-normal-map - --format sgi: refused by name, nothing on stdout: %r" % err)
+rc, out, err = run(["mesh", "no_such.ply", "-", "--bake-normal-map", "-", "--size", "8"])
+check(rc == 2 and "both" in err and out == b"",
+      "mesh - --bake-normal-map -: two streams on stdout refused, exit 2: %r" % err)
+rc, out, err = run(["mesh", "no_such.ply", "--bake-normal-map", "-", "--size", "8", "--json"])
+check(rc == 2 and "--json" in err and out == b"",
+      "mesh --json --bake-normal-map -: refused, exit 2: %r" % err)
+rc, out, err = run(["mesh", "no_such.ply", "--bake-normal-map", "m.png", "--size", "8",
+                    "--format", "exr"])
+check(rc == 2 and "disagrees" in err and out == b"",
+      "mesh --format exr with --bake-normal-map m.png: refused, exit 2: %r" % err)
 
 sys.exit(1 if FAILS else 0)
