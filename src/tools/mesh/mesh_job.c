@@ -308,6 +308,18 @@ static char *tile_path(const char *path, int udim)
     return out;
 }
 
+/* The map is OpenEXR: a file's extension says so, or on "-" its --format
+ * (PNG without one). */
+static int map_is_exr(const char *path, const char *format)
+{
+    if (strcmp(path, "-") != 0)
+        return ends_with_ci(path, ".exr");
+    if (!format)
+        return 0;
+    format += format[0] == '.';
+    return strlen(format) == 3 && ends_with_ci(format, "exr");
+}
+
 /* A file tile goes to a temporary that map_commit renames; standard output
  * (one tile: "-" holds no token) takes the image as bg_image_write_as
  * encodes it, in memory and written out once complete. */
@@ -527,15 +539,10 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         bake.progress = o->progress;
         bake.udim = mo.udim = strstr(bake_path, MESH_UDIM_TOKEN) != NULL;
         mo.path = bake_path;
-        mo.format = o->bake_format;
+        mo.format = o->bake_format ? o->bake_format + (o->bake_format[0] == '.') : NULL;
         mo.type = (bg_pixel_type)o->bake_depth;
         if (o->bake_depth < 0)
-            mo.type = ends_with_ci(bake_path, ".exr") ||
-                              (strcmp(bake_path, "-") == 0 && o->bake_format &&
-                               ends_with_ci(o->bake_format, "exr") &&
-                               strlen(o->bake_format + (o->bake_format[0] == '.')) == 3)
-                          ? BG_PIXEL_HALF
-                          : BG_PIXEL_U8;
+            mo.type = map_is_exr(bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
         if ((st = mesh_bake(&m, ox, oy, oz, &h, &bake, map_sink, &mo, &r->bake, e)) != BG_OK)
             goto done;
     }
