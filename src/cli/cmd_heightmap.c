@@ -16,6 +16,7 @@
 typedef struct heightmap_args {
     int gray, wrap, y_down, to_derivative, bits, json;
     float strength;
+    const char *format, *input_format;
 } heightmap_args;
 
 _Static_assert(sizeof(bgt_gray) == sizeof(int), "bgt_gray is stored as int");
@@ -51,6 +52,17 @@ static const cli_opt heightmap_opts[] = {
     {.name = "bits", .kind = CLI_KIND_CHOICE, .offset = A(bits), .metavar = "8|16|float",
      .help = "storage of OUT (default 8, float with --to-derivative; float needs .exr or .tif)",
      .choices = bits_choices, .choice_values = bits_values},
+    {.name = "format", .kind = CLI_KIND_STRING, .offset = A(format), .metavar = "FMT",
+     .help = "the format of OUT - (standard output): png (the default), exr, tif, hdr, jpg, "
+             "ppm, tga, bmp, ... (any OpenImageIO writes to memory); with a file OUT the "
+             "extension decides, and a --format that disagrees with it is an error",
+     .flags = CLI_NO_DEFAULT},
+    {.name = "input-format", .kind = CLI_KIND_STRING, .offset = A(input_format),
+     .metavar = "FMT",
+     .help = "read IN as this format (png, tga, exr, ...; any OpenImageIO reads): for IN - "
+             "(standard input) whose content no reader recognizes, e.g. TGA; default: by the "
+             "content (and a file's extension)",
+     .flags = CLI_NO_DEFAULT},
     {.name = "y-down", .kind = CLI_KIND_FLAG, .offset = A(y_down),
      .help = "green = +y down (DirectX convention)"},
     {.name = "to-derivative", .kind = CLI_KIND_FLAG, .offset = A(to_derivative),
@@ -84,15 +96,19 @@ CLI_SPEC(heightmap,
             "OUT is written to a temporary file next to it and renamed on success: a\n"
             "failure never leaves a partial file or replaces an old one. IN and OUT may\n"
             "be the same file. IN \"-\" reads standard input (any format OpenImageIO\n"
-            "reads from memory, found by its content); OUT \"-\" writes a PNG to standard\n"
-            "output (8 or 16 bits: --bits float with \"-\" is refused).\n"
+            "reads from memory, found by its content, or named by --input-format; a\n"
+            "content no reader recognizes is an error asking for it); OUT \"-\" writes\n"
+            "to standard output in the --format given, PNG without one (8 or 16 bits:\n"
+            "--bits float needs --format exr or tif).\n"
             "\n"
             "Exit status: 0 success, 1 the output cannot be written (or out of memory),\n"
             "2 bad usage or an input that is missing, unreadable or not an image.\n"
             "\n"
             "Examples:\n"
             "  bumpgrad heightmap diffuse.png normal.png --strength 2 --edge wrap\n"
-            "  bumpgrad heightmap normal.png deriv.exr --to-derivative\n",
+            "  bumpgrad heightmap normal.png deriv.exr --to-derivative\n"
+            "  bumpgrad heightmap - - --input-format tga --format exr --bits float \\\n"
+            "      < height.tga > normal.exr\n",
     .max_positional = 2,
 );
 
@@ -107,7 +123,8 @@ static int run_heightmap(void *args, const char *const *pos, int npos)
         return cli_usage_error(CMD, "--strength: must be finite");
     bgt_heightmap_opts opts = {.input = pos[0], .output = pos[1], .gray = (bgt_gray)a.gray,
                                .strength = a.strength, .wrap = a.wrap, .y_down = a.y_down,
-                               .to_derivative = a.to_derivative, .bits = a.bits};
+                               .to_derivative = a.to_derivative, .bits = a.bits,
+                               .format = a.format, .input_format = a.input_format};
     bgt_err err;
     double t0 = cli_now();
     bg_status st = bgt_heightmap_run(&opts, &err);
@@ -126,6 +143,10 @@ static int run_heightmap(void *args, const char *const *pos, int npos)
         cli_json_str(&j, "edge", a.wrap ? "wrap" : "clamp");
         cli_json_bool(&j, "y_down", a.y_down);
         cli_json_bool(&j, "to_derivative", a.to_derivative);
+        if (a.format)
+            cli_json_str(&j, "format", a.format);
+        if (a.input_format)
+            cli_json_str(&j, "input_format", a.input_format);
         if (a.bits)
             cli_json_int(&j, "bits", a.bits);
         else

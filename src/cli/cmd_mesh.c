@@ -64,7 +64,7 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
 }
 
 typedef struct mesh_args {
-    const char *bake_path;
+    const char *bake_path, *format;
     int method, compare, ascii, recompute, json, threads, join, bake_depth;
     mesh_bake_opts bake;
     bgt_height h;
@@ -142,8 +142,14 @@ static const cli_opt mesh_bake_table[] = {
      .metavar = "FILE", .help = "write a normal map (format from the extension, through "
                                 "OpenImageIO; OUT then optional). FILE with `<UDIM>`: one map "
                                 "per UDIM tile (1001 + u + 10 v, at most 100 tiles; `--size` is "
-                                "per tile)",
+                                "per tile); - for standard output (--format)",
      .flags = CLI_FILE},
+    {.name = "format", .kind = CLI_KIND_STRING, .offset = A(format), .metavar = "FMT",
+     .help = "the format of --bake-normal-map - (standard output; the summary then goes to "
+             "stderr): png (the default), exr, tif, ... (any OpenImageIO writes to memory); "
+             "with a map file the extension decides, and a --format that disagrees with it is "
+             "an error",
+     .flags = CLI_NO_DEFAULT},
     {.name = "size", .kind = CLI_KIND_CUSTOM, .offset = A(bake), .metavar = "N|WxH",
      .help = "map size in texels (required with the bake)", .parse = parse_size},
     {.name = "space", .kind = CLI_KIND_CHOICE, .offset = A(bake.space), .metavar = "S",
@@ -224,16 +230,17 @@ static int run_mesh(void *args, const char *const *pos, int npos)
         return cli_usage_error(cmd, "missing OUT.ply (or --bake-normal-map FILE)");
     if (bake_path && bake.width == 0)
         return cli_usage_error(cmd, "--bake-normal-map needs --size N (or WxH)");
-    if (bake_path && strcmp(bake_path, "-") == 0)
-        /* the mesh tool writes each map to a temporary file next to it */
-        return cli_usage_error(cmd, "--bake-normal-map -: standard output is not supported for "
-                                    "the map yet; give a file name");
+    if (a.json && ((bake_path && strcmp(bake_path, "-") == 0) ||
+                   (out_path && strcmp(out_path, "-") == 0)))
+        return cli_usage_error(cmd, "--json writes to standard output: give the outputs file "
+                                    "names");
     if (!bake_path && bake.width != 0)
         return cli_usage_error(cmd, "--size is for --bake-normal-map");
     bgt_mesh_opts opts = {.input = in_path, .output = out_path, .bake_path = bake_path,
                           .height = &a.h, .method = method, .compare = a.compare, .ascii = ascii,
                           .recompute_normals = a.recompute, .join = (unsigned)a.join,
-                          .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth};
+                          .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth,
+                          .bake_format = a.format};
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     opts.progress = &sink;

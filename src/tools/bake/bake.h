@@ -47,13 +47,20 @@ typedef struct bgt_heightmap_opts {
     int y_down;                 /* green = +y down (DirectX) */
     int to_derivative;          /* input is a normal map 0.5*m+0.5; output (dh/du, dh/dv, 0) */
     int bits;                   /* 8, 16, 32 (float), or 0: 8, or float with to_derivative */
+    const char *format;         /* OUT's format (an OpenImageIO name or extension: "png",
+                                 * "exr", "tif", ...): for OUT "-" (NULL: PNG); with a file
+                                 * its extension decides and a different format is refused */
+    const char *input_format;   /* IN's reader (NULL: by extension and content; IN "-" by
+                                 * content, and a content no reader claims is refused
+                                 * asking for it) */
 } bgt_heightmap_opts;
 
-/* Read, convert and write (bg_image_write: temp + rename). BG_ERR_INVALID_ARGUMENT
- * or BG_ERR_FORMAT for bad input (a depth the output format cannot store, a
- * missing or unreadable input, a NaN/Inf sample, a normal map with fewer than
- * 3 channels, an output name without an image format); BG_ERR_IO or
- * BG_ERR_OUT_OF_MEMORY when the run fails. */
+/* Read (bg_image_read_as), convert and write (bg_image_write_as: temp + rename,
+ * or standard output). BG_ERR_INVALID_ARGUMENT or BG_ERR_FORMAT for bad input
+ * (a depth the output format cannot store, a format against OUT's extension,
+ * a format the stream cannot carry, a missing or unreadable input, a NaN/Inf
+ * sample, a normal map with fewer than 3 channels, an output name without an
+ * image format); BG_ERR_IO or BG_ERR_OUT_OF_MEMORY when the run fails. */
 bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e);
 
 #endif

@@ -6,10 +6,12 @@
  * With to_derivative, the reverse direction of the surface-gradient
  * framework: a tangent-space normal map -> a derivative map (dh/du, dh/dv) =
  * (-m.x/m.z, -m.y/m.z). */
+#define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include "bake/bake.h"
 #include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
@@ -28,16 +30,40 @@ static void lower_ext(const char *path, char *out, size_t len)
     out[i] = '\0';
 }
 
+/* OUT's format as a lower-case extension into e (len bytes): `format` for
+ * "-" (standard output; PNG without one, as bg_image_write_as writes it),
+ * else the file's extension, which decides: a `format` that names another is
+ * refused, as by render --format. */
+static bg_status out_format(const char *path, const char *format, char *e, size_t len,
+                            bgt_err *err)
+{
+    if (format && *format == '.')
+        format++;
+    if (format && (!*format || strlen(format) >= len))
+        return bgt_fail(err, BG_ERR_INVALID_ARGUMENT, "--format: \"%s\": not an image format",
+                        format);
+    if (strcmp(path, "-") != 0) {
+        lower_ext(path, e, len);
+        if (format && strcasecmp(format, e) != 0)
+            return bgt_fail(err, BG_ERR_INVALID_ARGUMENT,
+                            "--format %s disagrees with the extension of OUT \"%s\" (the "
+                            "extension decides; --format is for OUT -)",
+                            format, path);
+        return BG_OK;
+    }
+    const char *f = format ? format : "png";
+    size_t i = 0;
+    for (; f[i] && i + 1 < len; i++)
+        e[i] = (char)tolower((unsigned char)f[i]);
+    e[i] = '\0';
+    return BG_OK;
+}
+
 /* Formats that store only 8 bits or at most 16: OpenImageIO would silently
  * narrow a wider request, so refuse it here. Unknown formats are allowed.
- * "-" (standard output) is written as PNG by bg_image_write. */
-static int max_bits_for(const char *path)
+ * `e`: OUT's format (out_format). */
+static int max_bits_for(const char *e)
 {
-    char e[16];
-    if (strcmp(path, "-") == 0)
-        strcpy(e, "png");
-    else
-        lower_ext(path, e, sizeof e);
     static const char *const eight[] = {"jpg", "jpeg", "bmp", "tga", "gif", "webp", "ico"};
     static const char *const sixteen[] = {"png", "ppm", "pgm", "pnm", "sgi", "rgb", "jp2"};
     for (size_t i = 0; i < sizeof eight / sizeof eight[0]; i++)
@@ -134,21 +160,33 @@ bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
     if (to_deriv && bits != 32)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--to-derivative writes float derivatives in [-128, 128]: "
                                     "use --bits float (the default) and an .exr or .tif output");
-    if (bits > max_bits_for(out_path))
-        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': this format cannot store %s samples; use .exr or .tif",
-                               out_path, bits == 32 ? "float" : "16-bit");
+    char ext[16];
+    bg_status st = out_format(out_path, o->format, ext, sizeof ext, e);
+    if (st != BG_OK)
+        return st;
+    if (bits > max_bits_for(ext))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        strcmp(out_path, "-") == 0
+                            ? "'%s': %s cannot store %s samples; use --format exr or tif"
+                            : "'%s': this format (%s) cannot store %s samples; use .exr or .tif",
+                        out_path, ext, bits == 32 ? "float" : "16-bit");
 
     char err[1024];
     bg_image in;
-    bg_status st = bg_image_read(in_path, &in, err, sizeof err);
+    st = bg_image_read_as(in_path, o->input_format, &in, err, sizeof err);
     if (st != BG_OK)
         /* Missing, unreadable or not an image: bad input (2); only running
-         * out of memory is a runtime failure (1). */
+         * out of memory is a runtime failure (1). Standard input has no
+         * name to tell its format by: say how to give it. */
         return bgt_fail(e,
                         st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
                         : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
                                                    : BG_ERR_INVALID_ARGUMENT,
-                        "%s", err);
+                        "%s%s%s", st == BG_ERR_INVALID_ARGUMENT && o->input_format
+                                          ? "--input-format: " : "", err,
+                        st == BG_ERR_FORMAT && !o->input_format && strcmp(in_path, "-") == 0
+                            ? "; name its format with --input-format FMT (png, tga, exr, ...)"
+                            : "");
 
     const int w = in.width, h = in.height;
     bg_image out;
@@ -200,7 +238,10 @@ bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
     {
         const bg_pixel_type type =
             bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
-        st = bg_image_write(out_path, &out, type, 0, err, sizeof err);
+        /* a file's format is its extension's (out_format) */
+        const char *fmt = o->format ? o->format + (o->format[0] == '.') : NULL;
+        st = bg_image_write_as(out_path, strcmp(out_path, "-") == 0 ? fmt : NULL, &out, type, 0,
+                               err, sizeof err);
         if (st != BG_OK)
             /* A file name without an image format is bad input; only the
              * writing itself failing is a run failure. */
@@ -208,7 +249,8 @@ bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
                           st == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
                           : st == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
                                                         : BG_ERR_IO,
-                          "%s", err);
+                          "%s%s", st == BG_ERR_INVALID_ARGUMENT && o->format ? "--format: " : "",
+                          err);
     }
 done:
     bg_image_free(&in);

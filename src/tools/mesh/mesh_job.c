@@ -212,6 +212,27 @@ bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e)
                         "OUT %s: cannot write a mesh in this format (the extension must be "
                         ".ply, .glb, .gltf or .obj)",
                         out_path);
+    if (out_path && bake_path && strcmp(out_path, "-") == 0 && strcmp(bake_path, "-") == 0)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "OUT and --bake-normal-map are both \"-\": standard output takes one "
+                        "of them");
+    /* --format is for the map on "-"; with a file its extension decides and
+     * a --format naming another is refused (render --format's rule). */
+    if (o->bake_format && !bake_path)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--format %s: the format of --bake-normal-map -; there is no bake",
+                        o->bake_format);
+    if (o->bake_format && strcmp(bake_path, "-") != 0) {
+        char ext[24];
+        int n = snprintf(ext, sizeof ext, ".%s", o->bake_format + (o->bake_format[0] == '.'));
+        for (char *c = ext; *c; c++)
+            *c = (char)(*c >= 'A' && *c <= 'Z' ? *c - 'A' + 'a' : *c);
+        if (n < 0 || (size_t)n >= sizeof ext || !ends_with_ci(bake_path, ext))
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "--format %s disagrees with the extension of --bake-normal-map %s "
+                            "(the extension decides; --format is for --bake-normal-map -)",
+                            o->bake_format, bake_path);
+    }
     /* One path for the PLY and the map: the later rename silently replaced
      * the other output (exit 0, the bake lost). */
     if (out_path && bake_path && same_file(out_path, bake_path))
@@ -256,7 +277,8 @@ static size_t take_normals(bg_mesh *m, int file_normals, float **ox, float **oy,
  * after the mesh output was written too; a failure before that removes every
  * temporary and leaves all old tiles as they were. */
 typedef struct map_out {
-    const char *path; /* the map argument, with or without the token */
+    const char *path; /* the map argument, with or without the token; "-": stdout */
+    const char *format; /* the format of "-" (NULL: PNG) */
     int udim;
     bg_pixel_type type;
     size_t n;
@@ -286,22 +308,43 @@ static char *tile_path(const char *path, int udim)
     return out;
 }
 
+/* The map is OpenEXR: a file's extension says so, or on "-" its --format
+ * (PNG without one). */
+static int map_is_exr(const char *path, const char *format)
+{
+    if (strcmp(path, "-") != 0)
+        return ends_with_ci(path, ".exr");
+    if (!format)
+        return 0;
+    format += format[0] == '.';
+    return strlen(format) == 3 && ends_with_ci(format, "exr");
+}
+
+/* A file tile goes to a temporary that map_commit renames; standard output
+ * (one tile: "-" holds no token) takes the image as bg_image_write_as
+ * encodes it, in memory and written out once complete. */
 static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
 {
     map_out *mo = ctx;
     double t0 = now_seconds();
-    char *final = mo->udim ? tile_path(mo->path, udim) : strdup(mo->path);
-    if (!final)
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-    char *tmp = bgt_safe_temp_path(final, e);
-    if (!tmp) {
-        free(final);
-        return e && e->status != BG_OK ? e->status : BG_ERR_IO;
+    const int to_stdout = strcmp(mo->path, "-") == 0;
+    const char *final = mo->path, *target = mo->path;
+    if (!to_stdout) {
+        char *fin = mo->udim ? tile_path(mo->path, udim) : strdup(mo->path);
+        if (!fin)
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        char *tmp = bgt_safe_temp_path(fin, e);
+        if (!tmp) {
+            free(fin);
+            return e && e->status != BG_OK ? e->status : BG_ERR_IO;
+        }
+        mo->final[mo->n] = fin;
+        mo->tmp[mo->n++] = tmp;
+        final = fin, target = tmp;
     }
-    mo->final[mo->n] = final;
-    mo->tmp[mo->n++] = tmp;
     char err[512];
-    bg_status ws = bg_image_write(tmp, img, mo->type, 0, err, sizeof err);
+    bg_status ws = bg_image_write_as(target, to_stdout ? mo->format : NULL, img, mo->type, 0,
+                                     err, sizeof err);
     mo->t_write += now_seconds() - t0;
     if (ws != BG_OK)
         /* A file name without an image format is bad input, as in
@@ -496,9 +539,10 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         bake.progress = o->progress;
         bake.udim = mo.udim = strstr(bake_path, MESH_UDIM_TOKEN) != NULL;
         mo.path = bake_path;
+        mo.format = o->bake_format ? o->bake_format + (o->bake_format[0] == '.') : NULL;
         mo.type = (bg_pixel_type)o->bake_depth;
         if (o->bake_depth < 0)
-            mo.type = ends_with_ci(bake_path, ".exr") ? BG_PIXEL_HALF : BG_PIXEL_U8;
+            mo.type = map_is_exr(bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
         if ((st = mesh_bake(&m, ox, oy, oz, &h, &bake, map_sink, &mo, &r->bake, e)) != BG_OK)
             goto done;
     }

@@ -115,7 +115,11 @@ double mesh_bake_tile_bytes(int width, int height);
 typedef struct bgt_mesh_opts {
     const char *input;       /* any format assimp reads (required) */
     const char *output;      /* OUT.ply, "-" = stdout, or NULL (then bake_path is required) */
-    const char *bake_path;   /* normal map (format from the extension), or NULL */
+    const char *bake_path;   /* normal map (format from the extension), "-" = stdout
+                              * (bake_format), or NULL */
+    const char *bake_format; /* the format of bake_path "-" (an OpenImageIO name: png, exr,
+                              * tif, ...; NULL: PNG); with a file map it must agree with
+                              * the extension */
     const bgt_height *height; /* the height parameters, NOT opened: bgt_mesh_run opens
                                * (and closes) its own copy after the path checks */
     bg_perturb_method method;
@@ -172,9 +176,11 @@ bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e);
  * eq. 2 and 4, Listing 3), write OUT.ply (through common/safe_file.h; an
  * existing device such as /dev/null is written in place) and/or bake and write
  * the normal map, one image per UDIM tile when bake_path holds MESH_UDIM_TOKEN
- * (each tile written by bg_image_write to a temporary as soon as it is baked;
- * all tiles renamed into place at the end, then the mesh output). A failure
- * before the renames leaves no new file and every old one as it was. *r is
+ * (each tile written by bg_image_write_as to a temporary as soon as it is
+ * baked; all tiles renamed into place at the end, then the mesh output). A
+ * failure before the renames leaves no new file and every old one as it was.
+ * bake_path "-" streams the one map to standard output as soon as it is baked
+ * (before the mesh output, which then cannot be "-" too). *r is
  * filled on success (r->bake.tiles, r->bake.tile_udim: the tiles written).
  * Status: BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT for bad input (paths,
  * height, a missing or malformed mesh, a bake without UVs, a map name without

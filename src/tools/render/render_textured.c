@@ -24,6 +24,7 @@
 #include <string.h>
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
+#include "mesh/mesh_texpath.h"
 #include "mesh/mesh_tool.h"
 #include "render/render.h"
 #include "vecmath.h"
@@ -199,34 +200,37 @@ static bg_status image_to_textures(bg_image *img, int nch,
 /* The texture set of one material: the albedo (sRGB to linear), the height
  * (the height map's gray level, else the albedo's: the seed's diffuse-to-height
  * method) and the tangent-space normal map (the file, else baked from the
- * height). hp, np, ap: paths or NULL. ls, lt: the mesh's mean |dP/ds|, |dP/dt|. */
+ * height). hp, np, ap: paths or NULL; what[]: their origins in messages (the
+ * option, or the material: texture_origins). ls, lt: the mesh's mean |dP/ds|,
+ * |dP/dt|. */
 static bg_status load_material(const render_opts *o, const char *hp, const char *np,
-                               const char *ap, int want_nmap, double ls, double lt,
-                               const render_textures *t, render_material *M, char *desc,
-                               size_t desclen, size_t *dl, int short_names, bgt_err *e)
+                               const char *ap, const char *const what[3], int want_nmap,
+                               double ls, double lt, const render_textures *t,
+                               render_material *M, char *desc, size_t desclen, size_t *dl,
+                               int short_names, bgt_err *e)
 {
     bg_image img;
     bg_status s;
     if (ap && !o->no_albedo) {
-        if ((s = read_texture("--albedo", ap, &img, e)) != BG_OK ||
+        if ((s = read_texture(what[0], ap, &img, e)) != BG_OK ||
             (s = image_to_textures(&img, 3, texel_albedo, M->owned, M->albedo, e)) != BG_OK)
             return s;
         desc_add(desc, desclen, dl, short_names, " albedo=", ap, "");
     }
     const char *hsrc = hp ? hp : ap;
     if (hsrc) {
-        if ((s = read_texture(hp ? "--height-map" : "--albedo", hsrc, &img, e)) != BG_OK ||
+        if ((s = read_texture(hp ? what[1] : what[0], hsrc, &img, e)) != BG_OK ||
             (s = image_to_textures(&img, 1, texel_height, M->owned + 3, &M->height, e)) != BG_OK)
             return s;
         desc_add(desc, desclen, dl, short_names, " height=", hsrc, hp ? "" : "(gray-of-albedo)");
     }
     if (want_nmap && np) {
-        if ((s = read_texture("--normal-map", np, &img, e)) != BG_OK)
+        if ((s = read_texture(what[2], np, &img, e)) != BG_OK)
             return s;
         if (img.channels < 3) {
             bg_image_free(&img);
-            return bgt_fail(e, BG_ERR_FORMAT, "--normal-map \"%s\": needs 3 channels, has %d", np,
-                            img.channels);
+            return bgt_fail(e, BG_ERR_FORMAT, "%s \"%s\": needs 3 channels, has %d", what[2],
+                            np, img.channels);
         }
         if ((s = image_to_textures(&img, 3, texel_normal, M->owned + 4, M->nmap, e)) != BG_OK)
             return s;
@@ -262,6 +266,35 @@ static bg_status load_material(const render_opts *o, const char *hp, const char 
                     M->owned[4 + ch][(size_t)j * W + i] = n[ch];
             }
         desc_add(desc, desclen, dl, short_names, " normalmap=baked-from-height", "", "");
+    }
+    return BG_OK;
+}
+
+/* Where the textures of one set come from (k: 0 albedo, 1 height, 2 normal
+ * map; path[k] NULL when none is used): an option's file as given, labelled
+ * by the option; else material `index`'s (me), looked for where an exported
+ * mesh's textures usually are (mesh_texture_find: a path written on another
+ * machine) and labelled by the material. path[k] is replaced by the file
+ * found, owned by found[k]. */
+static bg_status texture_origins(const render_opts *o, const bg_mesh_material *me, size_t index,
+                                 const char *path[3], char *found[3], char what[3][600],
+                                 bgt_err *e)
+{
+    static const char *const option[3] = {"--albedo", "--height-map", "--normal-map"};
+    static const char *const kind[3] = {"diffuse", "height", "normal"};
+    const char *const given[3] = {o->albedo_map, o->height_map, o->normal_map};
+    for (int k = 0; k < 3; k++) {
+        if (given[k] || !me) {
+            snprintf(what[k], sizeof what[k], "%s", option[k]);
+            continue;
+        }
+        char origin[512];
+        snprintf(what[k], sizeof what[k], "%s, %s texture",
+                 mesh_texture_origin(origin, sizeof origin, o->mesh_path, index, me->name),
+                 kind[k]);
+        if (path[k] && !(path[k] = found[k] = mesh_texture_find(o->mesh_path, index, me->name,
+                                                                 kind[k], path[k], e)))
+            return e && e->status != BG_OK ? e->status : BG_ERR_OUT_OF_MEMORY;
     }
     return BG_OK;
 }
@@ -480,8 +513,17 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         const char *ap = o->albedo_map ? o->albedo_map : me ? me->diffuse : NULL;
         if (nsets > 1 && me && (hp || np || ap))
             desc_add(desc, desclen, &dl, 0, " [", me->name, "]");
-        if ((s = load_material(o, hp, np, ap, want_nmap, ls, lt, t, &t->mat[i], desc, desclen,
-                               &dl, nsets > 1, e)) != BG_OK)
+        const char *path[3] = {ap && (!o->no_albedo || !hp) ? ap : NULL, hp,
+                               want_nmap ? np : NULL};
+        char *found[3] = {NULL, NULL, NULL}, what[3][600];
+        s = texture_origins(o, me, i, path, found, what, e);
+        if (s == BG_OK) {
+            const char *const labels[3] = {what[0], what[1], what[2]};
+            s = load_material(o, path[1], path[2], path[0], labels, want_nmap, ls, lt, t,
+                              &t->mat[i], desc, desclen, &dl, nsets > 1, e);
+        }
+        free(found[0]), free(found[1]), free(found[2]);
+        if (s != BG_OK)
             goto fail;
         t->any_height |= t->mat[i].height.texels != NULL;
         t->any_nmap |= t->mat[i].nmap[0].texels != NULL;
