@@ -84,7 +84,9 @@ static const cli_opt bench_opts[] = {
              "noise3_n64, noise3_n256 (kernel-table batch calls of that many points on every "
              "ISA), noise3_grid, "
              "fbm3_grid, fbm3_grad_grid (grid calls on a 128 x 128 x k lattice of the same "
-             "sample count, step 1/8, at the active ISA or --isa), ours, peers, peer:<library>, "
+             "sample count, step 1/8, at the active ISA or --isa), stream3 (v = x + y + z over "
+             "the same arrays: the memory traffic of the noise3 row with no work, its floor), "
+             "ours, peers, peer:<library>, "
              "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm)"},
     {.name = "icount", .kind = CLI_KIND_STRING, .offset = A(icount), .metavar = "FILE",
      .help = "instructions per sample to put in the JSON, lines of \"<kernel> <isa> "

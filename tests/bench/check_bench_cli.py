@@ -11,7 +11,7 @@ KERNELS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence
            "perturb_surfgrad", "perturb_additive", "perturb_height", "fbm3",
            "noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point",
            "noise3_batch1_point", "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256",
-           "noise3_grid", "fbm3_grid", "fbm3_grad_grid"]
+           "noise3_grid", "fbm3_grid", "fbm3_grad_grid", "stream3"]
 failures = 0
 
 

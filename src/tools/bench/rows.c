@@ -41,6 +41,7 @@ static const kernel_info kernels[K_COUNT] = {
     {"noise3_grid", BGT_PEER_VALUE},        /* bg_noise3_grid on the bench lattice */
     {"fbm3_grid", BGT_PEER_FBM},            /* bg_fractal3_grid, 6-octave fBm */
     {"fbm3_grad_grid", BGT_PEER_FBM},       /* bg_fractal3_grad_grid */
+    {"stream3", -1},                        /* v = x + y + z: noise3's memory traffic */
 };
 
 const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT] = {"value", "fbm", "grad_central"};
@@ -51,7 +52,7 @@ const char *bgt_bench_kernel_name(size_t k) { return k < K_COUNT ? kernels[k].na
 int bench_peer_op_of(int k) { return k >= 0 && k < K_COUNT ? kernels[k].peer_op : -1; }
 int bench_is_point(int k) { return k >= K_NOISE3_POINT && k <= K_NOISE3_BATCH1_POINT; }
 static int is_grid(int k) { return k >= K_NOISE3_GRID && k <= K_FBM3_GRAD_GRID; }
-int bench_at_active_isa(int k) { return bench_is_point(k) || is_grid(k); }
+int bench_at_active_isa(int k) { return bench_is_point(k) || is_grid(k) || k == K_STREAM3; }
 
 /* Points per call of the K_NOISE3_N* rows. */
 static size_t chunk_of(int k)
@@ -128,6 +129,13 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
     }
     if (is_grid(j->kernel)) {
         run_grid(j, b, e);
+        return;
+    }
+    if (j->kernel == K_STREAM3) {
+        /* What the noise3 row moves (3 loads, 1 store per sample) with no
+         * work: the floor its time per sample cannot go below at this size. */
+        for (size_t i = b; i < e; i++)
+            d->v[i] = d->px[i] + d->py[i] + d->pz[i];
         return;
     }
     const bg_kernel_table *t = j->t;
