@@ -179,36 +179,19 @@ BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
 }
 #endif
 
-/* lerp(t, a, b) = a + t (b - a), the reference's form, carried with its gradient:
- * t depends on one axis only (dt along that axis). */
-BG_INLINE corner lerp_x(vf t, vf dt, corner a, corner b)
+/* lerp(t, a, b) = a + t (b - a), the reference's form. */
+BG_INLINE vf lerp(vf t, vf a, vf b) { return vf_add(a, vf_mul(t, vf_sub(b, a))); }
+
+/* The lerp carried with its gradient: t depends on one axis only (0 x, 1 y,
+ * 2 z; a constant after inlining), whose component gains dt (b - a). */
+BG_INLINE corner lerp_axis(vf t, vf dt, corner a, corner b, int axis)
 {
     corner r;
     vf dv = vf_sub(b.v, a.v);
     r.v = vf_add(a.v, vf_mul(t, dv));
-    r.gx = vf_add(vf_add(a.gx, vf_mul(t, vf_sub(b.gx, a.gx))), vf_mul(dt, dv));
-    r.gy = vf_add(a.gy, vf_mul(t, vf_sub(b.gy, a.gy)));
-    r.gz = vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz)));
-    return r;
-}
-BG_INLINE corner lerp_y(vf t, vf dt, corner a, corner b)
-{
-    corner r;
-    vf dv = vf_sub(b.v, a.v);
-    r.v = vf_add(a.v, vf_mul(t, dv));
-    r.gx = vf_add(a.gx, vf_mul(t, vf_sub(b.gx, a.gx)));
-    r.gy = vf_add(vf_add(a.gy, vf_mul(t, vf_sub(b.gy, a.gy))), vf_mul(dt, dv));
-    r.gz = vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz)));
-    return r;
-}
-BG_INLINE corner lerp_z(vf t, vf dt, corner a, corner b)
-{
-    corner r;
-    vf dv = vf_sub(b.v, a.v);
-    r.v = vf_add(a.v, vf_mul(t, dv));
-    r.gx = vf_add(a.gx, vf_mul(t, vf_sub(b.gx, a.gx)));
-    r.gy = vf_add(a.gy, vf_mul(t, vf_sub(b.gy, a.gy)));
-    r.gz = vf_add(vf_add(a.gz, vf_mul(t, vf_sub(b.gz, a.gz))), vf_mul(dt, dv));
+    r.gx = lerp(t, a.gx, b.gx), r.gy = lerp(t, a.gy, b.gy), r.gz = lerp(t, a.gz, b.gz);
+    vf *g = axis == 0 ? &r.gx : axis == 1 ? &r.gy : &r.gz;
+    *g = vf_add(*g, vf_mul(dt, dv));
     return r;
 }
 
@@ -261,16 +244,16 @@ BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
          * live registers than forming all eight first; the same operations). */
         corner r;
         vf c000 = grad_corner_v(hs, 0, fx, fy, fz).v, c100 = grad_corner_v(hs, 1, x1, fy, fz).v;
-        vf a0 = vf_add(c000, vf_mul(u, vf_sub(c100, c000)));
+        vf a0 = lerp(u, c000, c100);
         vf c010 = grad_corner_v(hs, 2, fx, y1, fz).v, c110 = grad_corner_v(hs, 3, x1, y1, fz).v;
-        vf a1 = vf_add(c010, vf_mul(u, vf_sub(c110, c010)));
-        vf b0 = vf_add(a0, vf_mul(v, vf_sub(a1, a0)));
+        vf a1 = lerp(u, c010, c110);
+        vf b0 = lerp(v, a0, a1);
         vf c001 = grad_corner_v(hs, 4, fx, fy, z1).v, c101 = grad_corner_v(hs, 5, x1, fy, z1).v;
-        vf a2 = vf_add(c001, vf_mul(u, vf_sub(c101, c001)));
+        vf a2 = lerp(u, c001, c101);
         vf c011 = grad_corner_v(hs, 6, fx, y1, z1).v, c111 = grad_corner_v(hs, 7, x1, y1, z1).v;
-        vf a3 = vf_add(c011, vf_mul(u, vf_sub(c111, c011)));
-        vf b1 = vf_add(a2, vf_mul(v, vf_sub(a3, a2)));
-        r.v = vf_add(b0, vf_mul(w, vf_sub(b1, b0)));
+        vf a3 = lerp(u, c011, c111);
+        vf b1 = lerp(v, a2, a3);
+        r.v = lerp(w, b0, b1);
         r.gx = r.gy = r.gz = vf_set1(0);
         return r;
     }
@@ -279,13 +262,13 @@ BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
      * all eight): 8 corners x 4 vectors live at once do not fit the 32 AVX-512
      * registers next to the rest and were spilled to the stack. */
     vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
-    corner a0 = lerp_x(u, du, grad_corner(hs, 0, fx, fy, fz), grad_corner(hs, 1, x1, fy, fz));
-    corner a1 = lerp_x(u, du, grad_corner(hs, 2, fx, y1, fz), grad_corner(hs, 3, x1, y1, fz));
-    corner b0 = lerp_y(v, dv, a0, a1);
-    corner a2 = lerp_x(u, du, grad_corner(hs, 4, fx, fy, z1), grad_corner(hs, 5, x1, fy, z1));
-    corner a3 = lerp_x(u, du, grad_corner(hs, 6, fx, y1, z1), grad_corner(hs, 7, x1, y1, z1));
-    corner b1 = lerp_y(v, dv, a2, a3);
-    return lerp_z(w, dw, b0, b1);
+    corner a0 = lerp_axis(u, du, grad_corner(hs, 0, fx, fy, fz), grad_corner(hs, 1, x1, fy, fz), 0);
+    corner a1 = lerp_axis(u, du, grad_corner(hs, 2, fx, y1, fz), grad_corner(hs, 3, x1, y1, fz), 0);
+    corner b0 = lerp_axis(v, dv, a0, a1, 1);
+    corner a2 = lerp_axis(u, du, grad_corner(hs, 4, fx, fy, z1), grad_corner(hs, 5, x1, fy, z1), 0);
+    corner a3 = lerp_axis(u, du, grad_corner(hs, 6, fx, y1, z1), grad_corner(hs, 7, x1, y1, z1), 0);
+    corner b1 = lerp_axis(v, dv, a2, a3, 1);
+    return lerp_axis(w, dw, b0, b1, 2);
 }
 
 BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)

@@ -175,13 +175,13 @@ BG_VEC_INLINE __m256i bg_hash_hz(vi X, vi Y, vi Z)
 #endif
 }
 
-#ifndef BG_VEC_BYTE_CORNERS
 /* The last step needs only the low 4 bits of each corner hash: one lookup of
  * bg_perm_nib2 per index gives p[i] & 15 and p[i + 1] & 15, so the 8 corners
- * of 8 points are one bg_perm_bytes call, where full bytes took two (-DBG_VEC_
- * BYTE_CORNERS; docs/PERFORMANCE.md has both). The packed hashes are one
- * register (bump_tmpl.c's vhash): corner k's hash is bits 4j .. 4j+3 of each
- * dword, bits above are other corners' (the corner code reads bits 0-3 only). */
+ * of 8 points are one bg_perm_bytes call, where full bytes took two (the
+ * kernel of fc73bbb; docs/PERFORMANCE.md "Session 4" has both counts). The
+ * packed hashes are one register (bump_tmpl.c's vhash): corner k's hash is
+ * bits 4j .. 4j+3 of each dword, bits above are other corners' (the corner
+ * code reads bits 0-3 only). */
 #define BG_HAVE_HASHP 1
 typedef __m256i vhash;
 BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm_nib2, bg_hash_hz(X, Y, Z)); }
@@ -207,26 +207,6 @@ static inline void corner_masks(vhash l, int k, vm *lt4, vm *x1214)
     *lt4 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 24 - 8 * byte));
     *x1214 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 25 - 8 * byte));
 }
-#else
-#define BG_HAVE_HASH8 1
-static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
-{
-    const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
-    const __m256i b23 = _mm256_broadcastsi128_si256(_mm_setr_epi8(2, 2, 3, 3, 6, 6, 7, 7, 10, 10, 11, 11, 14, 14, 15, 15));
-    const __m256i plus0101 = _mm256_set1_epi32(0x01000100);
-    __m256i hz = bg_hash_hz(X, Y, Z);
-    __m256i la = bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(hz, b01), plus0101));
-    __m256i lb = bg_perm_bytes(_mm256_add_epi8(_mm256_shuffle_epi8(hz, b23), plus0101));
-    h[0] = la;                          /* 000: p[AA]   */
-    h[4] = _mm256_srli_epi32(la, 8);    /* 001: p[AA+1] */
-    h[2] = _mm256_srli_epi32(la, 16);   /* 010: p[AB]   */
-    h[6] = _mm256_srli_epi32(la, 24);   /* 011: p[AB+1] */
-    h[1] = lb;                          /* 100: p[BA]   */
-    h[5] = _mm256_srli_epi32(lb, 8);    /* 101: p[BA+1] */
-    h[3] = _mm256_srli_epi32(lb, 16);   /* 110: p[BB]   */
-    h[7] = _mm256_srli_epi32(lb, 24);   /* 111: p[BB+1] */
-}
-#endif
 #endif
 
 /* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is
