@@ -204,14 +204,39 @@ static bg_status read_impl(const char *path, const char *format, bg_image *out, 
                         name.c_str(), spec.width, spec.height, spec.depth, spec.nchannels);
         return BG_ERR_FORMAT;
     }
+    if (spec.tile_width < 0 || spec.tile_height < 0 || spec.tile_depth < 0) {
+        bg_io_set_error(err, errlen, "%s: unsupported tile size %dx%dx%d", name.c_str(),
+                        spec.tile_width, spec.tile_height, spec.tile_depth);
+        return BG_ERR_FORMAT;
+    }
     // The declared size decides the allocation: check it against the one cap
     // first (a 442-byte TGA may declare 28018 x 65535 pixels). The float image
-    // and, for most formats, a native-format buffer of the same order.
+    // and, for most formats, a native-format buffer of the same order. A tiled
+    // file is read a row of tiles at a time, each tile at its declared size even
+    // where it overhangs the image: OpenImageIO holds the row in the native
+    // format, converts through float tiles, and the format's reader decodes
+    // into a tile of its own. A 4x4 TIFF declaring 32768 x 32768 tiles cost
+    // 15.8 GB that way under a 64 MiB cap
+    // (tests/fuzz/regress/image/image-tif-4x4-tiles-32768).
+    const double pixels = static_cast<double>(spec.width) * spec.height;
+    const double float_pixel = static_cast<double>(spec.nchannels) * sizeof(float);
+    double need = 2.0 * pixels * float_pixel;
+    if (spec.tile_width > 0) {
+        const double tiles_x = std::ceil(static_cast<double>(spec.width) / spec.tile_width);
+        const double tile = static_cast<double>(spec.tile_width) * std::max(spec.tile_height, 1) *
+                            std::max(spec.tile_depth, 1);
+        need = pixels * float_pixel +
+               tiles_x * tile * (2.0 * static_cast<double>(spec.pixel_bytes(true)) + float_pixel);
+    }
     bgt_err cap_err;
-    if (bgt_check_alloc(2.0 * spec.width * spec.height * spec.nchannels * sizeof(float),
-                        "reading the image", &cap_err) != BG_OK) {
-        bg_io_set_error(err, errlen, "%s: %dx%d with %d channels: %s", name.c_str(), spec.width,
-                        spec.height, spec.nchannels, cap_err.msg);
+    if (bgt_check_alloc(need, "reading the image", &cap_err) != BG_OK) {
+        if (spec.tile_width > 0)
+            bg_io_set_error(err, errlen, "%s: %dx%d with %d channels in %dx%d tiles: %s",
+                            name.c_str(), spec.width, spec.height, spec.nchannels,
+                            spec.tile_width, spec.tile_height, cap_err.msg);
+        else
+            bg_io_set_error(err, errlen, "%s: %dx%d with %d channels: %s", name.c_str(),
+                            spec.width, spec.height, spec.nchannels, cap_err.msg);
         return BG_ERR_FORMAT;
     }
     bg_image img;
