@@ -10,7 +10,9 @@
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
+#include <openvdb/points/StreamCompression.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -438,11 +440,13 @@ uint32_t blosc_uncompressed(vdb_layout &r, uint32_t n, const char *what)
 // their compressed sizes (int64), each raw or blosc-compressed, then any
 // bytes up to numBytes. OpenVDB sizes both arrays by the count (4 G leaves:
 // 36 GB): a file holds at least a byte per leaf, so the count is bounded by
-// the file size, and a block may not expand past its array.
+// the file size, and a block may not expand past its array, which the writer
+// pads to BLOSC_PAD_BYTES (points/StreamCompression.cc, bloscCompress).
 void delayed_load(vdb_layout &r, uint32_t num_bytes)
 {
     if (num_bytes == 0)
         return;
+    const uint64_t blosc_pad = vdb::compression::BLOSC_PAD_BYTES;
     const uint64_t start = r.pos();
     const uint32_t count = r.value<uint32_t>("the delayed-load leaf count");
     if (count > r.size())
@@ -450,7 +454,7 @@ void delayed_load(vdb_layout &r, uint32_t num_bytes)
                "has bytes", static_cast<unsigned long long>(start), count);
     const uint32_t mask = r.value<uint32_t>("the delayed-load mask size");
     if (mask > 0) {
-        if (blosc_uncompressed(r, mask, "the delayed-load mask") > count)
+        if (blosc_uncompressed(r, mask, "the delayed-load mask") > std::max<uint64_t>(count, blosc_pad))
             r.fail("at byte %llu, the delayed-load mask expands past its %u leaves",
                    static_cast<unsigned long long>(start), count);
     } else {
@@ -459,7 +463,8 @@ void delayed_load(vdb_layout &r, uint32_t num_bytes)
     const uint32_t sizes = r.value<uint32_t>("the delayed-load sizes' size");
     if (sizes != UINT32_MAX) {
         if (sizes > 0) {
-            if (blosc_uncompressed(r, sizes, "the delayed-load sizes") > uint64_t(count) * 8)
+            if (blosc_uncompressed(r, sizes, "the delayed-load sizes") >
+                std::max<uint64_t>(uint64_t(count) * 8, blosc_pad))
                 r.fail("at byte %llu, the delayed-load sizes expand past their %u leaves",
                        static_cast<unsigned long long>(start), count);
         } else {
