@@ -204,6 +204,20 @@ static bg_status read_impl(const char *path, const char *format, bg_image *out, 
                         name.c_str(), spec.width, spec.height, spec.depth, spec.nchannels);
         return BG_ERR_FORMAT;
     }
+    // OpenImageIO 2.4's BMP reader takes RLE8 (RLE4) data for any bit depth
+    // and then reads far outside its buffer (SIGSEGV; oiiotool too) when the
+    // header pairs it with other than 8 (4) bits per pixel, which the BMP
+    // format does not allow. Found by fuzz_image in 58 bytes
+    // (tests/fuzz/regress/image/image-bmp-rle8-16bpp-segv).
+    if (std::strcmp(in->format_name(), "bmp") == 0) {
+        const std::string c = spec.get_string_attribute("compression");
+        const int bpp = spec.get_int_attribute("bmp:bitsperpixel");
+        if ((c == "rle8" && bpp != 8) || (c == "rle4" && bpp != 4)) {
+            bg_io_set_error(err, errlen, "%s: corrupt BMP (%s compression with %d bits per pixel)",
+                            name.c_str(), c.c_str(), bpp);
+            return BG_ERR_FORMAT;
+        }
+    }
     if (spec.tile_width < 0 || spec.tile_height < 0 || spec.tile_depth < 0) {
         bg_io_set_error(err, errlen, "%s: unsupported tile size %dx%dx%d", name.c_str(),
                         spec.tile_width, spec.tile_height, spec.tile_depth);

@@ -545,8 +545,8 @@ uint64_t walk_vdb(vdb_layout &r)
     }
     meta_map(r);
     const int32_t grids = r.value<int32_t>("the grid count");
-    // A descriptor takes at least 36 bytes (three empty strings, three offsets).
-    if (grids < 0 || static_cast<uint64_t>(grids) > (r.size() - r.pos()) / 36)
+    // A descriptor takes at least 32 bytes (two empty strings, three offsets).
+    if (grids < 0 || static_cast<uint64_t>(grids) > (r.size() - r.pos()) / 32)
         r.fail("at byte %llu, a count of %d grids does not fit in the rest of the file",
                static_cast<unsigned long long>(r.pos() - 4), grids);
     uint64_t mem = 0;
