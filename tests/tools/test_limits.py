@@ -94,6 +94,28 @@ with tempfile.TemporaryDirectory() as d:
     check(rc != 0 and "cap" not in err,
           f"... while 16x16 tiles pass the cap (to the decoder's own error: {err.strip()})")
 
+    # An RLE8 BMP declaring 32768 x 32768 pixels: OpenImageIO's BMP reader
+    # decodes RLE data into a zeroed width x height buffer inside open() (1 GB
+    # here), before any spec can be checked, so the header is checked first.
+    pal = b"\0" * 1024
+    rle = b"\x00\x01"  # end of bitmap
+    off = 14 + 40 + len(pal)
+    bmp = (b"BM" + struct.pack("<IHHI", off + len(rle), 0, 0, off)
+           + struct.pack("<IiiHHIIiiII", 40, 32768, 32768, 1, 8, 1, len(rle), 2835, 2835, 256, 0)
+           + pal + rle)
+    with open(os.path.join(d, "rle.bmp"), "wb") as f:
+        f.write(bmp)
+    rc, err, rss = peak_rss_mb(["heightmap", "rle.bmp", "n.png"], d, BUMPGRAD_MAX_MB="64")
+    check(rc == 2 and "rle.bmp" in err and "RLE8 BMP" in err and "cap" in err,
+          f"a 32768^2 RLE8 BMP is refused before OpenImageIO decodes it (rc {rc}: {err.strip()})")
+    check(rss < 512, f"... without allocating its buffer (peak RSS {rss:.0f} MiB)")
+    bmp16 = bmp[:28] + struct.pack("<H", 16) + bmp[30:]
+    with open(os.path.join(d, "rle16.bmp"), "wb") as f:
+        f.write(bmp16)
+    rc, err, _ = run(["heightmap", "rle16.bmp", "n.png"], d)
+    check(rc == 2 and "RLE8 compression with 16 bits per pixel" in err,
+          f"RLE8 with 16 bits per pixel (OpenImageIO 2.4 segfaults) is refused ({err.strip()})")
+
     rc, err, _ = run(["render", "--size", "16384x16384", "--spp", "256", "-o", "x.png"], d)
     check(rc == 2 and "cap" in err, f"a 16384^2 x 256 spp render is refused up front ({err.strip()})")
     rc, err, _ = run(["render", "--size", "512x512", "-o", "x.png"], d, BUMPGRAD_MAX_MB="1")
