@@ -627,15 +627,30 @@ static bg_status check_vdb_layout(const char *path, char *err, size_t errlen)
 // files overflow its heap (glibc then aborts) instead of throwing. So the file
 // is read once in a child process first; if that child dies of a signal, the
 // file is reported as corrupt here instead of taking the command down. The
-// child is given 60 s; the parent then reads the file for real.
+// child is given 60 s; the parent then reads the file for real. A clean error
+// of the child (its status, then its message) comes back through a pipe, so
+// that the parent does not read a corrupt file a second time only to say so:
+// a tree that asks for 1.9 GB before failing at the end of the file cost that
+// twice (tests/fuzz/crashes/vdb-tree-1.9GB-read-twice).
 static bg_status probe_in_child(const char *path, const char *grid_name, char *err, size_t errlen)
 {
     std::fflush(nullptr);
     const pid_t parent = getpid();
     const unsigned timeout = bg_io_child_timeout();
+    // Non-blocking: the child writes its message once, before it exits, and
+    // the parent reads only after that; another child forked meanwhile (a
+    // mesh import on another thread) may hold the write end open.
+    int msg[2] = {-1, -1};
+    if (::pipe2(msg, O_CLOEXEC | O_NONBLOCK) != 0)
+        msg[0] = msg[1] = -1; // the parent then reproduces the error itself
     pid_t pid = fork();
-    if (pid < 0)
+    if (pid < 0) {
+        if (msg[0] >= 0) {
+            ::close(msg[0]);
+            ::close(msg[1]);
+        }
         return BG_OK; // cannot probe: fall back to reading in-process
+    }
     if (pid == 0) {
         // A fuzzed 153 KB file once cost 2 GB here: the same address-space cap
         // as the mesh import child, a time-out, and death with the parent.
@@ -649,17 +664,35 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
             ::dup2(fd, 2);
         }
         bg_vdb_height *h = nullptr;
-        char e[8];
+        char e[512] = "";
         bg_status s;
         try {
             s = open_impl(path, grid_name, &h, e, sizeof e);
         } catch (...) {
             s = BG_ERR_FORMAT;
         }
-        // A clean error is reproduced by the parent; running out of the cap is not
-        // retried there without one.
+        // A clean error goes to the parent (under PIPE_BUF: one write that
+        // cannot block); running out of the cap is never retried there.
+        if (s != BG_OK && s != BG_ERR_OUT_OF_MEMORY && msg[1] >= 0 && e[0]) {
+            char buf[1 + sizeof e];
+            buf[0] = static_cast<char>(s);
+            const size_t n = std::strlen(e);
+            std::memcpy(buf + 1, e, n);
+            (void)bg_io_write_all(msg[1], buf, 1 + n);
+        }
         ::_exit(s == BG_OK ? 0 : s == BG_ERR_OUT_OF_MEMORY ? 4 : 3);
     }
+    if (msg[1] >= 0)
+        ::close(msg[1]);
+    // The read end, closed on every return below.
+    struct fd_closer {
+        int fd;
+        ~fd_closer()
+        {
+            if (fd >= 0)
+                ::close(fd);
+        }
+    } reply{msg[0]};
     int status = 0;
     for (int waited_ms = 0;; waited_ms += 10) {
         pid_t r = ::waitpid(pid, &status, WNOHANG);
@@ -698,13 +731,25 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
                         "should (corrupt counts?); set BUMPGRAD_VDB_MAX_MB to allow more", path);
         return BG_ERR_FORMAT;
     }
-    // 0: the file reads; 3: a clean error, which the parent reproduces with its
-    // message. Any other status (an abort in a library, an allocator giving up)
-    // is a failed probe, never a reason to read the file in-process.
+    // 0: the file reads; 3: a clean error, with the child's message, or which
+    // the parent reproduces if none came. Any other status (an abort in a
+    // library, an allocator giving up) is a failed probe, never a reason to
+    // read the file in-process.
     if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 3)) {
         bg_io_set_error(err, errlen, "'%s': corrupt VDB file (reading it failed with status %d)",
                         path, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
         return BG_ERR_FORMAT;
+    }
+    if (WEXITSTATUS(status) == 3 && reply.fd >= 0) {
+        char buf[513];
+        const size_t n = bg_io_read_all(reply.fd, buf, sizeof buf - 1);
+        const bg_status s = n > 1 ? static_cast<bg_status>(static_cast<unsigned char>(buf[0]))
+                                  : BG_OK;
+        if (s == BG_ERR_IO || s == BG_ERR_FORMAT) {
+            buf[n] = '\0';
+            bg_io_set_error(err, errlen, "%s", buf + 1);
+            return s;
+        }
     }
     return BG_OK;
 }

@@ -8,6 +8,7 @@ voxel is not reported as "out of memory".
 Usage: test_limits.py BUMPGRAD_EXE
 """
 import os
+import shutil
 import signal
 import struct
 import subprocess
@@ -163,6 +164,27 @@ with tempfile.TemporaryDirectory() as d:
     check(rc == 2 and "v64.vdb" in err and "BUMPGRAD_VDB_MAX_MB" in err
           and not os.path.exists(os.path.join(d, "o.csv")),
           f"a probe child stopped by its memory cap fails the command ({err.strip()})")
+
+    # A corrupt VDB is read by OpenVDB once, in the probe child, whose message
+    # comes back: the parent does not open the file again after reaping it
+    # (a tree that asks for 1.9 GB before failing cost that twice).
+    strace = shutil.which("strace")
+    if strace:
+        trace = os.path.join(d, "strace.log")
+        r = subprocess.run([strace, "-f", "-e", "trace=openat,wait4", "-o", trace, EXE,
+                            "perturb", "--height-grid", "v64.vdb:nosuch", "-i", "pts.csv",
+                            "-o", "o.csv"], cwd=d, capture_output=True, text=True,
+                           env=dict(os.environ, BUMPGRAD_NO_PROGRESS="1"))
+        lines = open(trace).read().splitlines()
+        reaped = [i for i, l in enumerate(lines) if "wait4(" in l and "WEXITSTATUS(s) == 3" in l]
+        parent = lines[reaped[0]].split()[0] if reaped else None
+        again = [l for l in lines[reaped[0] + 1:] if l.split()[0] == parent
+                 and 'v64.vdb"' in l] if reaped else []
+        check(r.returncode == 2 and "no grid named 'nosuch'" in r.stderr and reaped and not again,
+              f"a VDB the probe child refused is not read again in the parent "
+              f"(rc {r.returncode}, child reaped: {bool(reaped)}, reopened: {again})")
+    else:
+        print("skip: strace not found (the VDB read-once check)")
 
     # A PLY header without end_header: assimp loops forever in the import child.
     with open(os.path.join(d, "h.ply"), "w") as f:
