@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -159,6 +160,46 @@ static bg_status open_stream(const std::vector<unsigned char> &mem, const char *
     return BG_ERR_FORMAT;
 }
 
+// OpenImageIO 2.4's BMP reader decodes RLE8/RLE4 data inside open(), before
+// any spec can be checked, into a zeroed width x height byte buffer: a 70-byte
+// BMP declaring 247 x 8389636 pixels made that 2 GB (6 s, 2.1 GB resident)
+// under a 64 MiB cap (tests/fuzz/regress/image/image-bmp-rle8-2GB). It also
+// takes RLE data at any bit depth and then indexes its palette with it, far
+// out of bounds (SIGSEGV, in oiiotool too), when the header pairs RLE8 with
+// other than 8 bits per pixel or RLE4 with other than 4, which the format does
+// not allow (image-bmp-rle8-16bpp-segv). So a BMP header, recognised by its
+// content (OpenImageIO tries every reader on a name it does not know), is
+// checked before OpenImageIO sees the file. `h` holds the first n bytes.
+static bg_status check_bmp_header(const unsigned char *h, size_t n, const std::string &name,
+                                  char *err, size_t errlen)
+{
+    if (n < 34 || h[0] != 'B' || h[1] != 'M')
+        return BG_OK;
+    auto u32 = [h](size_t o) {
+        return static_cast<uint32_t>(h[o]) | static_cast<uint32_t>(h[o + 1]) << 8 |
+               static_cast<uint32_t>(h[o + 2]) << 16 | static_cast<uint32_t>(h[o + 3]) << 24;
+    };
+    const uint32_t compression = u32(30);
+    if (u32(14) < 40 || (compression != 1 && compression != 2))
+        return BG_OK; // no compression field (OS/2 header), or not RLE
+    const unsigned bits = static_cast<unsigned>(h[28]) | static_cast<unsigned>(h[29]) << 8;
+    const unsigned rle = compression == 1 ? 8 : 4;
+    if (bits != rle) {
+        bg_io_set_error(err, errlen, "%s: corrupt BMP (RLE%u compression with %u bits per pixel)",
+                        name.c_str(), rle, bits);
+        return BG_ERR_FORMAT;
+    }
+    const double w = std::fabs(static_cast<double>(static_cast<int32_t>(u32(18))));
+    const double hh = std::fabs(static_cast<double>(static_cast<int32_t>(u32(22))));
+    bgt_err cap_err;
+    if (bgt_check_alloc(w * hh, "decoding its RLE data", &cap_err) != BG_OK) {
+        bg_io_set_error(err, errlen, "%s: %.0fx%.0f RLE%u BMP: %s", name.c_str(), w, hh, rle,
+                        cap_err.msg);
+        return BG_ERR_FORMAT;
+    }
+    return BG_OK;
+}
+
 static bg_status read_impl(const char *path, const char *format, bg_image *out, char *err,
                            size_t errlen)
 {
@@ -171,6 +212,8 @@ static bg_status read_impl(const char *path, const char *format, bg_image *out, 
     if (stream) {
         st = read_stdin(&mem, err, errlen);
         if (st == BG_OK)
+            st = check_bmp_header(mem.data(), mem.size(), name, err, errlen);
+        if (st == BG_OK)
             st = open_stream(mem, format, &proxy, &in, err, errlen);
         if (st != BG_OK)
             return st;
@@ -179,6 +222,15 @@ static bg_status read_impl(const char *path, const char *format, bg_image *out, 
         // corrupt" (a format problem) before OpenImageIO does: its open()
         // reports both as "could not open".
         st = bg_io_check_readable(path, nullptr, err, errlen);
+        if (st != BG_OK)
+            return st;
+        unsigned char head[34];
+        size_t got = 0;
+        if (FILE *f = std::fopen(path, "rb")) {
+            got = std::fread(head, 1, sizeof head, f);
+            std::fclose(f);
+        }
+        st = check_bmp_header(head, got, name, err, errlen);
         if (st != BG_OK)
             return st;
         if (format) {
@@ -204,14 +256,39 @@ static bg_status read_impl(const char *path, const char *format, bg_image *out, 
                         name.c_str(), spec.width, spec.height, spec.depth, spec.nchannels);
         return BG_ERR_FORMAT;
     }
+    if (spec.tile_width < 0 || spec.tile_height < 0 || spec.tile_depth < 0) {
+        bg_io_set_error(err, errlen, "%s: unsupported tile size %dx%dx%d", name.c_str(),
+                        spec.tile_width, spec.tile_height, spec.tile_depth);
+        return BG_ERR_FORMAT;
+    }
     // The declared size decides the allocation: check it against the one cap
     // first (a 442-byte TGA may declare 28018 x 65535 pixels). The float image
-    // and, for most formats, a native-format buffer of the same order.
+    // and, for most formats, a native-format buffer of the same order. A tiled
+    // file is read a row of tiles at a time, each tile at its declared size even
+    // where it overhangs the image: OpenImageIO holds the row in the native
+    // format, converts through float tiles, and the format's reader decodes
+    // into a tile of its own. A 4x4 TIFF declaring 32768 x 32768 tiles cost
+    // 15.8 GB that way under a 64 MiB cap
+    // (tests/fuzz/regress/image/image-tif-4x4-tiles-32768).
+    const double pixels = static_cast<double>(spec.width) * spec.height;
+    const double float_pixel = static_cast<double>(spec.nchannels) * sizeof(float);
+    double need = 2.0 * pixels * float_pixel;
+    if (spec.tile_width > 0) {
+        const double tiles_x = std::ceil(static_cast<double>(spec.width) / spec.tile_width);
+        const double tile = static_cast<double>(spec.tile_width) * std::max(spec.tile_height, 1) *
+                            std::max(spec.tile_depth, 1);
+        need = pixels * float_pixel +
+               tiles_x * tile * (2.0 * static_cast<double>(spec.pixel_bytes(true)) + float_pixel);
+    }
     bgt_err cap_err;
-    if (bgt_check_alloc(2.0 * spec.width * spec.height * spec.nchannels * sizeof(float),
-                        "reading the image", &cap_err) != BG_OK) {
-        bg_io_set_error(err, errlen, "%s: %dx%d with %d channels: %s", name.c_str(), spec.width,
-                        spec.height, spec.nchannels, cap_err.msg);
+    if (bgt_check_alloc(need, "reading the image", &cap_err) != BG_OK) {
+        if (spec.tile_width > 0)
+            bg_io_set_error(err, errlen, "%s: %dx%d with %d channels in %dx%d tiles: %s",
+                            name.c_str(), spec.width, spec.height, spec.nchannels,
+                            spec.tile_width, spec.tile_height, cap_err.msg);
+        else
+            bg_io_set_error(err, errlen, "%s: %dx%d with %d channels: %s", name.c_str(),
+                            spec.width, spec.height, spec.nchannels, cap_err.msg);
         return BG_ERR_FORMAT;
     }
     bg_image img;

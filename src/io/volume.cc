@@ -7,11 +7,18 @@
 #include "bumpgrad/volume.h"
 
 #include <openvdb/openvdb.h>
+#include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
+#include <openvdb/points/StreamCompression.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -22,11 +29,13 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "io_util.h"
+#include "common/tool.h"
 
 namespace vdb = openvdb;
 
@@ -228,8 +237,10 @@ static bg_status open_impl(const char *path, const char *grid_name, bg_vdb_heigh
                             path);
             return BG_ERR_FORMAT;
         } catch (const std::bad_alloc &) {
+            // OUT_OF_MEMORY, not FORMAT: in the probe child that is exit 4,
+            // which the parent must not retry without the child's cap.
             bg_io_set_error(err, errlen, "'%s': corrupt VDB file (or out of memory)", path);
-            return BG_ERR_FORMAT;
+            return BG_ERR_OUT_OF_MEMORY;
         } catch (const std::exception &e) {
             bg_io_set_error(err, errlen, "'%s': not a VDB file, or corrupt (%s)", path, e.what());
             return BG_ERR_FORMAT;
@@ -305,38 +316,383 @@ static bg_status open_impl(const char *path, const char *grid_name, bg_vdb_heigh
     return BG_OK;
 }
 
+/* ---- the container walk before OpenVDB reads a file --------------------------
+ * OpenVDB 10 trusts every length field: readString (Name.h) and the string
+ * metadata allocate and zero the declared size before reading it, and
+ * DelayedLoadMetadata sizes two arrays by a count read from the file. So a
+ * 20 KB file whose metadata name length reads 0x656d616e ("name", one field
+ * shifted) made it allocate and memset 1.7 GB, in the probe child (under its
+ * 2 GiB cap) and again in the parent, before failing at the end of the file
+ * (tests/fuzz/regress/vdb/vdb-meta-string-1.7GB). OpenVDB's own metadata-only
+ * reads (io::File::open, readAllGridMetadata) go through the same readMeta, so
+ * they cannot be the pre-check. This walk follows the layout io::Stream reads
+ * (Archive::readHeader, MetaMap::readMeta, GridDescriptor::read,
+ * Archive::readGrid up to the transform), checking each length against the
+ * bytes that remain before anything is allocated, and adds up the grids'
+ * file_mem_bytes (their in-memory size, written by OpenVDB) for the one
+ * allocation cap (BUMPGRAD_MAX_MB). It stops at each tree: the topology and
+ * the leaf buffers are left to the probe child's address-space cap. With grid
+ * offsets (every file io::File writes) it finds the next grid at the
+ * descriptor's end offset; without them it checks the first grid only. */
+namespace {
+
+struct vdb_layout_error {
+    std::string msg;
+};
+
+class vdb_layout {
+  public:
+    vdb_layout(FILE *f, uint64_t size) : f_(f), size_(size) {}
+
+    uint64_t pos() const { return pos_; }
+    uint64_t size() const { return size_; }
+
+    [[noreturn]] void fail(const char *fmt, ...) BG_IO_PRINTF(2, 3)
+    {
+        char buf[256];
+        va_list ap;
+        va_start(ap, fmt);
+        std::vsnprintf(buf, sizeof buf, fmt, ap);
+        va_end(ap);
+        throw vdb_layout_error{buf};
+    }
+
+    // n more bytes must be in the file for `what`.
+    void need(uint64_t n, const char *what)
+    {
+        if (n > size_ - pos_)
+            fail("at byte %llu, %s of %llu bytes runs past the end of the file (%llu bytes)",
+                 static_cast<unsigned long long>(pos_), what, static_cast<unsigned long long>(n),
+                 static_cast<unsigned long long>(size_));
+    }
+    void bytes(void *p, size_t n, const char *what)
+    {
+        need(n, what);
+        if (std::fread(p, 1, n, f_) != n)
+            fail("at byte %llu: read error (%s)", static_cast<unsigned long long>(pos_),
+                 std::strerror(errno));
+        pos_ += n;
+    }
+    void skip(uint64_t n, const char *what)
+    {
+        need(n, what);
+        seek(pos_ + n);
+    }
+    void seek(uint64_t to)
+    {
+        if (to > size_ || fseeko(f_, static_cast<off_t>(to), SEEK_SET) != 0)
+            fail("cannot seek to byte %llu", static_cast<unsigned long long>(to));
+        pos_ = to;
+    }
+    template <class T> T value(const char *what)
+    {
+        T v;
+        bytes(&v, sizeof v, what);
+        return v;
+    }
+    // A readString field: uint32 length, then the bytes. Only short strings
+    // (names, type names) are kept; a longer one is checked and skipped.
+    std::string string(const char *what)
+    {
+        const uint32_t n = value<uint32_t>(what);
+        need(n, what);
+        if (n > 256) {
+            skip(n, what);
+            return std::string();
+        }
+        std::string s(n, '\0');
+        if (n)
+            bytes(&s[0], n, what);
+        return s;
+    }
+    // The next character `is >> c` would give (boost's uuid reader skips
+    // white space before each one).
+    int word_char()
+    {
+        for (;;) {
+            const unsigned char c = value<unsigned char>("the header's uuid");
+            if (!std::isspace(c))
+                return c;
+        }
+    }
+
+  private:
+    FILE *f_;
+    uint64_t size_;
+    uint64_t pos_ = 0;
+};
+
+// The blosc header's uncompressed size (bytes 4..7) of a compressed block of
+// `n` bytes, which OpenVDB reserves before decompressing.
+uint32_t blosc_uncompressed(vdb_layout &r, uint32_t n, const char *what)
+{
+    if (n < 16)
+        r.fail("at byte %llu, %s is %u bytes, shorter than a blosc header",
+               static_cast<unsigned long long>(r.pos()), what, n);
+    unsigned char h[16];
+    r.bytes(h, sizeof h, what);
+    r.skip(n - 16, what);
+    return static_cast<uint32_t>(h[4]) | static_cast<uint32_t>(h[5]) << 8 |
+           static_cast<uint32_t>(h[6]) << 16 | static_cast<uint32_t>(h[7]) << 24;
+}
+
+// DelayedLoadMetadata::readValue: a leaf count, the leaves' mask bytes and
+// their compressed sizes (int64), each raw or blosc-compressed, then any
+// bytes up to numBytes. OpenVDB sizes both arrays by the count (4 G leaves:
+// 36 GB): a file holds at least a byte per leaf, so the count is bounded by
+// the file size, and a block may not expand past its array, which the writer
+// pads to BLOSC_PAD_BYTES (points/StreamCompression.cc, bloscCompress).
+void delayed_load(vdb_layout &r, uint32_t num_bytes)
+{
+    if (num_bytes == 0)
+        return;
+    const uint64_t blosc_pad = vdb::compression::BLOSC_PAD_BYTES;
+    const uint64_t start = r.pos();
+    const uint32_t count = r.value<uint32_t>("the delayed-load leaf count");
+    if (count > r.size())
+        r.fail("at byte %llu, the delayed-load metadata counts %u leaves, more than the file "
+               "has bytes", static_cast<unsigned long long>(start), count);
+    const uint32_t mask = r.value<uint32_t>("the delayed-load mask size");
+    if (mask > 0) {
+        if (blosc_uncompressed(r, mask, "the delayed-load mask") > std::max<uint64_t>(count, blosc_pad))
+            r.fail("at byte %llu, the delayed-load mask expands past its %u leaves",
+                   static_cast<unsigned long long>(start), count);
+    } else {
+        r.skip(count, "the delayed-load mask");
+    }
+    const uint32_t sizes = r.value<uint32_t>("the delayed-load sizes' size");
+    if (sizes != UINT32_MAX) {
+        if (sizes > 0) {
+            if (blosc_uncompressed(r, sizes, "the delayed-load sizes") >
+                std::max<uint64_t>(uint64_t(count) * 8, blosc_pad))
+                r.fail("at byte %llu, the delayed-load sizes expand past their %u leaves",
+                       static_cast<unsigned long long>(start), count);
+        } else {
+            r.skip(uint64_t(count) * 8, "the delayed-load sizes");
+        }
+    }
+    // What OpenVDB counts as read ("total": 12 bytes of header plus the two
+    // blocks, in 32 bits), and the rest up to numBytes, which it skips.
+    const uint32_t total = static_cast<uint32_t>(r.pos() - start);
+    if (total < num_bytes)
+        r.skip(num_bytes - total, "the delayed-load metadata");
+}
+
+// MetaMap::readMeta: a count, then name, type name and a sized value each.
+// Returns the int64 "file_mem_bytes" if there is one (else 0).
+uint64_t meta_map(vdb_layout &r)
+{
+    uint64_t mem_bytes = 0;
+    const uint32_t count = r.value<uint32_t>("the metadata count");
+    // Each item takes at least 12 bytes (two empty strings and a size).
+    if (count > (r.size() - r.pos()) / 12)
+        r.fail("at byte %llu, %u metadata items do not fit in the rest of the file",
+               static_cast<unsigned long long>(r.pos() - 4), count);
+    for (uint32_t i = 0; i < count; ++i) {
+        const std::string name = r.string("a metadata name");
+        const std::string type = r.string("a metadata type name");
+        const uint32_t n = r.value<uint32_t>("a metadata value");
+        if (type == vdb::io::DelayedLoadMetadata::staticTypeName()) {
+            delayed_load(r, n);
+        } else if (type == vdb::StringMetadata::staticTypeName() ||
+                   !vdb::Metadata::isRegisteredType(type)) {
+            r.skip(n, "a metadata value"); // StringMetadata, UnknownMetadata: n bytes
+        } else {
+            // A fixed-size value: OpenVDB reads its own size, whatever n says.
+            const vdb::Index32 sz = vdb::Metadata::createMetadata(type)->size();
+            if (name == vdb::GridBase::META_FILE_MEM_BYTES &&
+                type == vdb::Int64Metadata::staticTypeName()) {
+                mem_bytes = static_cast<uint64_t>(std::max<int64_t>(0, r.value<int64_t>("a metadata value")));
+            } else {
+                r.skip(sz, "a metadata value");
+            }
+        }
+    }
+    return mem_bytes;
+}
+
+// The whole walk; returns the sum of the grids' file_mem_bytes.
+uint64_t walk_vdb(vdb_layout &r)
+{
+    if (r.value<int64_t>("the magic number") != vdb::OPENVDB_MAGIC)
+        r.fail("not a VDB file (no VDB magic number)");
+    uint32_t version = r.value<uint32_t>("the format version");
+    if (version < 211) { // Archive::readHeader: major, minor, patch
+        const uint32_t minor = r.value<uint32_t>("the format version");
+        const uint32_t patch = r.value<uint32_t>("the format version");
+        version = 100 * version + 10 * minor + patch;
+    }
+    if (version >= 211)
+        r.skip(8, "the library version");
+    bool offsets = true;
+    if (version >= 212)
+        offsets = r.value<char>("the grid offsets flag") != 0;
+    if (version >= vdb::OPENVDB_FILE_VERSION_SELECTIVE_COMPRESSION &&
+        version < vdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION)
+        r.skip(1, "the compression flag");
+    if (version >= vdb::OPENVDB_FILE_VERSION_BOOST_UUID) {
+        for (int i = 0; i < 16; ++i) {
+            for (int d = 0; d < 2; ++d)
+                if (!std::isxdigit(r.word_char()))
+                    r.fail("at byte %llu: the header's uuid is not hexadecimal",
+                           static_cast<unsigned long long>(r.pos() - 1));
+            if ((i == 3 || i == 5 || i == 7 || i == 9) && r.word_char() != '-')
+                r.fail("at byte %llu: the header's uuid lacks a '-'",
+                       static_cast<unsigned long long>(r.pos() - 1));
+        }
+    } else {
+        r.skip(16, "the header's uuid");
+    }
+    meta_map(r);
+    const int32_t grids = r.value<int32_t>("the grid count");
+    // A descriptor takes at least 32 bytes (two empty strings, three offsets).
+    if (grids < 0 || static_cast<uint64_t>(grids) > (r.size() - r.pos()) / 32)
+        r.fail("at byte %llu, a count of %d grids does not fit in the rest of the file",
+               static_cast<unsigned long long>(r.pos() - 4), grids);
+    uint64_t mem = 0;
+    for (int32_t g = 0; g < grids; ++g) {
+        r.string("a grid name");
+        std::string type = r.string("a grid type name");
+        const std::string half = "_HalfFloat"; // GridDescriptor.cc's HALF_FLOAT_TYPENAME_SUFFIX
+        if (type.size() >= half.size() && type.compare(type.size() - half.size(), half.size(), half) == 0)
+            type.erase(type.size() - half.size());
+        bool instance = false;
+        if (version >= vdb::OPENVDB_FILE_VERSION_GRID_INSTANCING)
+            instance = !r.string("a grid's instance parent name").empty();
+        if (!vdb::GridBase::isRegistered(type))
+            return mem; // OpenVDB refuses it here, before any grid data
+        r.skip(16, "the grid offsets");
+        const int64_t end = r.value<int64_t>("the grid offsets");
+        if (version >= vdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION)
+            r.skip(4, "the grid's compression flags");
+        const uint64_t m = meta_map(r);
+        if (!instance)
+            mem = mem + m < mem ? UINT64_MAX : mem + m;
+        if (version >= vdb::OPENVDB_FILE_VERSION_GRID_INSTANCING)
+            r.string("the grid's transform type");
+        // Next: the tree, which only OpenVDB reads; the next grid starts at
+        // the end offset.
+        if (!offsets)
+            break;
+        if (end < 0 || static_cast<uint64_t>(end) < r.pos() || static_cast<uint64_t>(end) > r.size())
+            r.fail("grid %d: its end offset %lld lies outside the file (%llu bytes)", g,
+                   static_cast<long long>(end), static_cast<unsigned long long>(r.size()));
+        r.seek(static_cast<uint64_t>(end));
+    }
+    return mem;
+}
+
+} // namespace
+
+// BG_OK if the layout before the trees fits the file and the grids' declared
+// in-memory size fits BUMPGRAD_MAX_MB; else BG_ERR_FORMAT naming the file.
+static bg_status check_vdb_layout(const char *path, char *err, size_t errlen)
+{
+    init_vdb();
+    FILE *f = std::fopen(path, "rb");
+    if (!f) {
+        bg_io_set_error(err, errlen, "'%s': cannot open (%s)", path, std::strerror(errno));
+        return BG_ERR_IO;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || st.st_size < 0) {
+        std::fclose(f);
+        bg_io_set_error(err, errlen, "'%s': cannot stat (%s)", path, std::strerror(errno));
+        return BG_ERR_IO;
+    }
+    vdb_layout r(f, static_cast<uint64_t>(st.st_size));
+    uint64_t mem = 0;
+    try {
+        mem = walk_vdb(r);
+    } catch (const vdb_layout_error &e) {
+        std::fclose(f);
+        bg_io_set_error(err, errlen, "'%s': corrupt VDB file: %s", path, e.msg.c_str());
+        return BG_ERR_FORMAT;
+    } catch (const std::exception &e) { // OpenVDB's registry (bad_alloc, lookups)
+        std::fclose(f);
+        bg_io_set_error(err, errlen, "'%s': not a readable VDB file (%s)", path, e.what());
+        return BG_ERR_FORMAT;
+    }
+    std::fclose(f);
+    bgt_err cap;
+    if (bgt_check_alloc(static_cast<double>(mem), "reading its grids (their file_mem_bytes)",
+                        &cap) != BG_OK) {
+        bg_io_set_error(err, errlen, "'%s': %s", path, cap.msg);
+        return BG_ERR_FORMAT;
+    }
+    return BG_OK;
+}
+
 // OpenVDB 10 trusts the chunk lengths inside compressed streams: some corrupt
 // files overflow its heap (glibc then aborts) instead of throwing. So the file
 // is read once in a child process first; if that child dies of a signal, the
 // file is reported as corrupt here instead of taking the command down. The
-// child is given 60 s; the parent then reads the file for real.
+// child is given 60 s; the parent then reads the file for real. A clean error
+// of the child (its status, then its message) comes back through a pipe, so
+// that the parent does not read a corrupt file a second time only to say so:
+// a tree that asks for 1.9 GB before failing at the end of the file cost that
+// twice (tests/fuzz/crashes/vdb-tree-1.9GB-read-twice).
 static bg_status probe_in_child(const char *path, const char *grid_name, char *err, size_t errlen)
 {
     std::fflush(nullptr);
     const pid_t parent = getpid();
     const unsigned timeout = bg_io_child_timeout();
+    // Non-blocking: the child writes its message once, before it exits, and
+    // the parent reads only after that; another child forked meanwhile (a
+    // mesh import on another thread) may hold the write end open.
+    int msg[2] = {-1, -1};
+    if (::pipe2(msg, O_CLOEXEC | O_NONBLOCK) != 0)
+        msg[0] = msg[1] = -1; // the parent then reproduces the error itself
     pid_t pid = fork();
-    if (pid < 0)
+    if (pid < 0) {
+        if (msg[0] >= 0) {
+            ::close(msg[0]);
+            ::close(msg[1]);
+        }
         return BG_OK; // cannot probe: fall back to reading in-process
+    }
     if (pid == 0) {
         // A fuzzed 153 KB file once cost 2 GB here: the same address-space cap
         // as the mesh import child, a time-out, and death with the parent.
         bg_io_child_limits(parent, bg_io_child_memory_cap(path, "BUMPGRAD_VDB_MAX_MB"), timeout);
+        // The parent prints the one message, and standard output may be the
+        // command's data ("-o -"): blosc prints "Error allocating memory!"
+        // to stdout when the cap stops it.
         int fd = ::open("/dev/null", O_WRONLY);
-        if (fd >= 0)
-            ::dup2(fd, 2); // the parent prints the one message
+        if (fd >= 0) {
+            ::dup2(fd, 1);
+            ::dup2(fd, 2);
+        }
         bg_vdb_height *h = nullptr;
-        char e[8];
+        char e[512] = "";
         bg_status s;
         try {
             s = open_impl(path, grid_name, &h, e, sizeof e);
         } catch (...) {
             s = BG_ERR_FORMAT;
         }
-        // A clean error is reproduced by the parent; running out of the cap is not
-        // retried there without one.
+        // A clean error goes to the parent (under PIPE_BUF: one write that
+        // cannot block); running out of the cap is never retried there.
+        if (s != BG_OK && s != BG_ERR_OUT_OF_MEMORY && msg[1] >= 0 && e[0]) {
+            char buf[1 + sizeof e];
+            buf[0] = static_cast<char>(s);
+            const size_t n = std::strlen(e);
+            std::memcpy(buf + 1, e, n);
+            (void)bg_io_write_all(msg[1], buf, 1 + n);
+        }
         ::_exit(s == BG_OK ? 0 : s == BG_ERR_OUT_OF_MEMORY ? 4 : 3);
     }
+    if (msg[1] >= 0)
+        ::close(msg[1]);
+    // The read end, closed on every return below.
+    struct fd_closer {
+        int fd;
+        ~fd_closer()
+        {
+            if (fd >= 0)
+                ::close(fd);
+        }
+    } reply{msg[0]};
     int status = 0;
     for (int waited_ms = 0;; waited_ms += 10) {
         pid_t r = ::waitpid(pid, &status, WNOHANG);
@@ -361,7 +717,11 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
         return BG_ERR_FORMAT;
     }
     if (WIFSIGNALED(status)) {
-        bg_io_set_error(err, errlen, "'%s': corrupt VDB file (OpenVDB crashed reading it, signal %d)",
+        // Also what running into the cap looks like when a library does not
+        // check its malloc (blosc: "Error allocating memory!", then SIGSEGV).
+        bg_io_set_error(err, errlen,
+                        "'%s': corrupt VDB file, or over the probe's memory cap (OpenVDB crashed "
+                        "reading it, signal %d; BUMPGRAD_VDB_MAX_MB sets the cap)",
                         path, WTERMSIG(status));
         return BG_ERR_FORMAT;
     }
@@ -371,13 +731,25 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
                         "should (corrupt counts?); set BUMPGRAD_VDB_MAX_MB to allow more", path);
         return BG_ERR_FORMAT;
     }
-    // 0: the file reads; 3: a clean error, which the parent reproduces with its
-    // message. Any other status (an abort in a library, an allocator giving up)
-    // is a failed probe, never a reason to read the file in-process.
+    // 0: the file reads; 3: a clean error, with the child's message, or which
+    // the parent reproduces if none came. Any other status (an abort in a
+    // library, an allocator giving up) is a failed probe, never a reason to
+    // read the file in-process.
     if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 3)) {
         bg_io_set_error(err, errlen, "'%s': corrupt VDB file (reading it failed with status %d)",
                         path, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
         return BG_ERR_FORMAT;
+    }
+    if (WEXITSTATUS(status) == 3 && reply.fd >= 0) {
+        char buf[513];
+        const size_t n = bg_io_read_all(reply.fd, buf, sizeof buf - 1);
+        const bg_status s = n > 1 ? static_cast<bg_status>(static_cast<unsigned char>(buf[0]))
+                                  : BG_OK;
+        if (s == BG_ERR_IO || s == BG_ERR_FORMAT) {
+            buf[n] = '\0';
+            bg_io_set_error(err, errlen, "%s", buf + 1);
+            return s;
+        }
     }
     return BG_OK;
 }
@@ -392,6 +764,10 @@ bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_hei
     }
     *out = nullptr;
     bg_status st = bg_io_check_readable(path, nullptr, err, errlen);
+    if (st != BG_OK)
+        return st;
+    // Lengths and declared sizes first, before OpenVDB allocates by them.
+    st = check_vdb_layout(path, err, errlen);
     if (st != BG_OK)
         return st;
     st = probe_in_child(path, grid_name, err, errlen);
