@@ -176,7 +176,9 @@ with tempfile.TemporaryDirectory() as d:
                             "-o", "o.csv"], cwd=d, capture_output=True, text=True,
                            env=dict(os.environ, BUMPGRAD_NO_PROGRESS="1"))
         lines = open(trace).read().splitlines()
-        reaped = [i for i, l in enumerate(lines) if "wait4(" in l and "WEXITSTATUS(s) == 3" in l]
+        # strace -f splits a blocking call into "wait4(... <unfinished ...>" and
+        # "<... wait4 resumed> ...": the status is on whichever line ends it.
+        reaped = [i for i, l in enumerate(lines) if "wait4" in l and "WEXITSTATUS(s) == 3" in l]
         parent = lines[reaped[0]].split()[0] if reaped else None
         again = [l for l in lines[reaped[0] + 1:] if l.split()[0] == parent
                  and 'v64.vdb"' in l] if reaped else []
