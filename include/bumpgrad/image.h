@@ -42,7 +42,8 @@ BG_API void bg_image_free(bg_image *img);
 BG_API bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen);
 
 /** bg_image_read with the reader chosen by `format` (an OpenImageIO format name
- *  or extension: "png", "exr", "tif", ...; NULL or "" = by the file's extension
+ *  or extension, in any case, with or without a leading dot: "png", ".EXR", ...;
+ *  NULL or "" = by the file's extension
  *  and content, as bg_image_read).
  *  `path` "-" reads standard input to its end into memory (an image reader
  *  seeks), checked against the allocation cap BUMPGRAD_MAX_MB before the buffer
@@ -65,7 +66,8 @@ BG_API bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_
                                 char *err, size_t errlen);
 
 /** bg_image_write with the writer chosen by `format` (an OpenImageIO format name
- *  or extension: "png", "exr", "tif", ...; NULL or "" = by the extension).
+ *  or extension, in any case, with or without a leading dot: "png", ".EXR", ...;
+ *  NULL or "" = by the extension).
  *  `path` "-" is standard output: the image is encoded in memory (OpenImageIO's
  *  IOVecOutput), PNG when `format` is NULL, and written out in one piece only
  *  once it is complete. A short write or a closed pipe (EPIPE: SIGPIPE is

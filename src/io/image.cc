@@ -5,6 +5,7 @@
 // crossing into the C command line would be undefined behaviour.
 #include "bumpgrad/image.h"
 
+#include <cctype>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -329,10 +330,23 @@ static bg_status read_guarded(const char *path, const char *format, bg_image *ou
                        [&] { return read_impl(path, format, out, err, errlen); });
 }
 
+// A format as a user writes it ("exr", ".exr", "EXR") as OpenImageIO names it:
+// without the dot, in lower case.
+static std::string format_key(const char *format)
+{
+    std::string f(format + (format[0] == '.'));
+    for (char &c : f)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return f;
+}
+
 bg_status bg_image_read_as(const char *path, const char *format, bg_image *out, char *err,
                            size_t errlen)
 {
-    return read_guarded(path, format, out, err, errlen);
+    if (!format)
+        return read_guarded(path, nullptr, out, err, errlen);
+    const std::string key = format_key(format);
+    return read_guarded(path, key.c_str(), out, err, errlen);
 }
 
 bg_status bg_image_read(const char *path, bg_image *out, char *err, size_t errlen)
@@ -562,7 +576,10 @@ static bg_status write_guarded(const char *path, const char *format, const bg_im
 bg_status bg_image_write_as(const char *path, const char *format, const bg_image *img,
                             bg_pixel_type type, int srgb, char *err, size_t errlen)
 {
-    return write_guarded(path, format, img, type, srgb, err, errlen);
+    if (!format)
+        return write_guarded(path, nullptr, img, type, srgb, err, errlen);
+    const std::string key = format_key(format);
+    return write_guarded(path, key.c_str(), img, type, srgb, err, errlen);
 }
 
 bg_status bg_image_write(const char *path, const bg_image *img, bg_pixel_type type, int srgb,

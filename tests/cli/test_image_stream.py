@@ -70,6 +70,9 @@ rc, out2, err = run(["render", "--size", "16x12", "-o", "-"])
 check(rc == 0 and out2 == out, "-o - without --format is the same PNG")
 rc, out, err = run(["render", "--size", "16x12", "-o", "-", "--format", "exr"])
 check(rc == 0 and out[:4] == b"\x76\x2f\x31\x01", "-o - --format exr: OpenEXR magic: %r" % out[:4])
+rc, out, err = run(["render", "--size", "16x12", "-o", "-", "--format", ".EXR"])
+check(rc == 0 and out[:4] == b"\x76\x2f\x31\x01",
+      "--format .EXR (a dot, upper case) is --format exr (rc %d, %r)" % (rc, err))
 # A file output still reports on stdout and the extension decides.
 with tempfile.TemporaryDirectory() as d:
     f = os.path.join(d, "r.png")
