@@ -116,20 +116,16 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, int ck)
     return vf_add(vf_add(vf_mul(gx, dx), vf_mul(gy, dy)), vf_mul(gz, dz));
 }
 
-BG_INLINE corner grad_corner_v(vhash hs, int ck, vf dx, vf dy, vf dz)
-{
-    corner c;
-    c.v = grad_value(vh_corner(hs, ck), dx, dy, dz, ck);
-    c.gx = c.gy = c.gz = 0;
-    return c;
-}
-
-BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
+/* Corner ck's value and, when `want_grad` (a constant after inlining), its
+ * gradient vector. */
+BG_INLINE corner grad_corner_g(vhash hs, int ck, vf dx, vf dy, vf dz, int want_grad)
 {
     corner c;
     vi hash = vh_corner(hs, ck);
     c.v = grad_value(hash, dx, dy, dz, ck);
-    c.gx = grad_tab_x[hash & 15], c.gy = grad_tab_y[hash & 15], c.gz = grad_tab_z[hash & 15];
+    c.gx = c.gy = c.gz = 0;
+    if (want_grad)
+        c.gx = grad_tab_x[hash & 15], c.gy = grad_tab_y[hash & 15], c.gz = grad_tab_z[hash & 15];
     return c;
 }
 #else
@@ -151,26 +147,20 @@ BG_INLINE void corner_masks(vhash hs, int ck, vm *lt4, vm *x1214)
 }
 #endif
 
-BG_INLINE corner grad_corner_v(vhash hs, int ck, vf dx, vf dy, vf dz)
+/* Corner ck's value and, when `want_grad` (a constant after inlining), its
+ * gradient vector. */
+BG_INLINE corner grad_corner_g(vhash hs, int ck, vf dx, vf dy, vf dz, int want_grad)
 {
     corner c;
     vi hash = vh_corner(hs, ck);
     vm lt4, x1214;
     corner_masks(hs, ck, &lt4, &x1214);
     c.v = grad_value(hash, dx, dy, dz, lt4, x1214);
-    c.gx = c.gy = c.gz = vf_set1(0);
-    return c;
-}
-
-BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
-{
-    corner c;
-    vi hash = vh_corner(hs, ck);
-    vm lt4, x1214;
-    corner_masks(hs, ck, &lt4, &x1214);
-    c.v = grad_value(hash, dx, dy, dz, lt4, x1214);
-    /* d/dx etc. of the value: +-1 on the u and v axes, +0 on the third. */
     vf zero = vf_set1(0);
+    c.gx = c.gy = c.gz = zero;
+    if (!want_grad)
+        return c;
+    /* d/dx etc. of the value: +-1 on the u and v axes, +0 on the third. */
     vf su = vf_flip_bit(vf_set1(1), hash, 0), sv = vf_flip_bit(vf_set1(1), hash, 1);
     c.gx = vf_sel_bit(hash, 3, vf_sel(x1214, sv, zero), su);
     c.gy = vf_sel_bit(hash, 3, su, vf_sel(lt4, sv, zero));
@@ -178,6 +168,14 @@ BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
     return c;
 }
 #endif
+BG_INLINE corner grad_corner_v(vhash hs, int ck, vf dx, vf dy, vf dz)
+{
+    return grad_corner_g(hs, ck, dx, dy, dz, 0);
+}
+BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
+{
+    return grad_corner_g(hs, ck, dx, dy, dz, 1);
+}
 
 /* lerp(t, a, b) = a + t (b - a), the reference's form. */
 BG_INLINE vf lerp(vf t, vf a, vf b) { return vf_add(a, vf_mul(t, vf_sub(b, a))); }
