@@ -70,7 +70,7 @@ BG_INLINE vhash vi_hashp(vi X, vi Y, vi Z)
     vi_hash8(X, Y, Z, s.h);
     return s;
 }
-BG_INLINE vi vh_corner(vhash s, int k) { return s.h[k]; }
+BG_INLINE vi vh_corner(const vhash *s, int k) { return s->h[k]; }
 #endif
 #ifdef BG_HAVE_HASHP
 #define BG_PIPELINE 1
@@ -118,7 +118,7 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, int ck)
 
 /* Corner ck's value and, when `want_grad` (a constant after inlining), its
  * gradient vector. */
-BG_INLINE corner grad_corner_g(vhash hs, int ck, vf dx, vf dy, vf dz, int want_grad)
+BG_INLINE corner grad_corner_g(const vhash *hs, int ck, vf dx, vf dy, vf dz, int want_grad)
 {
     corner c;
     vi hash = vh_corner(hs, ck);
@@ -139,7 +139,7 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, vm lt4, vm x1214)
 }
 
 #ifndef BG_HAVE_CORNER_MASKS
-BG_INLINE void corner_masks(vhash hs, int ck, vm *lt4, vm *x1214)
+BG_INLINE void corner_masks(const vhash *hs, int ck, vm *lt4, vm *x1214)
 {
     vi hash = vh_corner(hs, ck);
     *lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
@@ -149,7 +149,7 @@ BG_INLINE void corner_masks(vhash hs, int ck, vm *lt4, vm *x1214)
 
 /* Corner ck's value and, when `want_grad` (a constant after inlining), its
  * gradient vector. */
-BG_INLINE corner grad_corner_g(vhash hs, int ck, vf dx, vf dy, vf dz, int want_grad)
+BG_INLINE corner grad_corner_g(const vhash *hs, int ck, vf dx, vf dy, vf dz, int want_grad)
 {
     corner c;
     vi hash = vh_corner(hs, ck);
@@ -168,11 +168,11 @@ BG_INLINE corner grad_corner_g(vhash hs, int ck, vf dx, vf dy, vf dz, int want_g
     return c;
 }
 #endif
-BG_INLINE corner grad_corner_v(vhash hs, int ck, vf dx, vf dy, vf dz)
+BG_INLINE corner grad_corner_v(const vhash *hs, int ck, vf dx, vf dy, vf dz)
 {
     return grad_corner_g(hs, ck, dx, dy, dz, 0);
 }
-BG_INLINE corner grad_corner(vhash hs, int ck, vf dx, vf dy, vf dz)
+BG_INLINE corner grad_corner(const vhash *hs, int ck, vf dx, vf dy, vf dz)
 {
     return grad_corner_g(hs, ck, dx, dy, dz, 1);
 }
@@ -241,14 +241,14 @@ BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
          * reference, each corner pair folded as soon as it is formed (fewer
          * live registers than forming all eight first; the same operations). */
         corner r;
-        vf c000 = grad_corner_v(hs, 0, fx, fy, fz).v, c100 = grad_corner_v(hs, 1, x1, fy, fz).v;
+        vf c000 = grad_corner_v(&hs, 0, fx, fy, fz).v, c100 = grad_corner_v(&hs, 1, x1, fy, fz).v;
         vf a0 = lerp(u, c000, c100);
-        vf c010 = grad_corner_v(hs, 2, fx, y1, fz).v, c110 = grad_corner_v(hs, 3, x1, y1, fz).v;
+        vf c010 = grad_corner_v(&hs, 2, fx, y1, fz).v, c110 = grad_corner_v(&hs, 3, x1, y1, fz).v;
         vf a1 = lerp(u, c010, c110);
         vf b0 = lerp(v, a0, a1);
-        vf c001 = grad_corner_v(hs, 4, fx, fy, z1).v, c101 = grad_corner_v(hs, 5, x1, fy, z1).v;
+        vf c001 = grad_corner_v(&hs, 4, fx, fy, z1).v, c101 = grad_corner_v(&hs, 5, x1, fy, z1).v;
         vf a2 = lerp(u, c001, c101);
-        vf c011 = grad_corner_v(hs, 6, fx, y1, z1).v, c111 = grad_corner_v(hs, 7, x1, y1, z1).v;
+        vf c011 = grad_corner_v(&hs, 6, fx, y1, z1).v, c111 = grad_corner_v(&hs, 7, x1, y1, z1).v;
         vf a3 = lerp(u, c011, c111);
         vf b1 = lerp(v, a2, a3);
         r.v = lerp(w, b0, b1);
@@ -260,11 +260,11 @@ BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
      * all eight): 8 corners x 4 vectors live at once do not fit the 32 AVX-512
      * registers next to the rest and were spilled to the stack. */
     vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
-    corner a0 = lerp_axis(u, du, grad_corner(hs, 0, fx, fy, fz), grad_corner(hs, 1, x1, fy, fz), 0);
-    corner a1 = lerp_axis(u, du, grad_corner(hs, 2, fx, y1, fz), grad_corner(hs, 3, x1, y1, fz), 0);
+    corner a0 = lerp_axis(u, du, grad_corner(&hs, 0, fx, fy, fz), grad_corner(&hs, 1, x1, fy, fz), 0);
+    corner a1 = lerp_axis(u, du, grad_corner(&hs, 2, fx, y1, fz), grad_corner(&hs, 3, x1, y1, fz), 0);
     corner b0 = lerp_axis(v, dv, a0, a1, 1);
-    corner a2 = lerp_axis(u, du, grad_corner(hs, 4, fx, fy, z1), grad_corner(hs, 5, x1, fy, z1), 0);
-    corner a3 = lerp_axis(u, du, grad_corner(hs, 6, fx, y1, z1), grad_corner(hs, 7, x1, y1, z1), 0);
+    corner a2 = lerp_axis(u, du, grad_corner(&hs, 4, fx, fy, z1), grad_corner(&hs, 5, x1, fy, z1), 0);
+    corner a3 = lerp_axis(u, du, grad_corner(&hs, 6, fx, y1, z1), grad_corner(&hs, 7, x1, y1, z1), 0);
     corner b1 = lerp_axis(v, dv, a2, a3, 1);
     return lerp_axis(w, dw, b0, b1, 2);
 }

@@ -188,7 +188,7 @@ BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm
 /* Corner k (bit 0: x + 1, bit 1: y + 1, bit 2: z + 1): nibble 0 p[AA], 1 p[AA+1],
  * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
 static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
-static inline vi vh_corner(vhash l, int k) { return _mm256_srli_epi32(l, 4 * bg_corner_nib[k]); }
+static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l, 4 * bg_corner_nib[k]); }
 /* The corner masks of bump_tmpl.c (h & 12 == 0, h & 13 == 12) for all 64
  * nibbles at once: a vpshufb of a 16-entry table turns each nibble into a byte
  * with bit 7 = (h < 4) and bit 6 = (h is 12 or 14); corner k's masks are then
@@ -197,12 +197,12 @@ static inline vi vh_corner(vhash l, int k) { return _mm256_srli_epi32(l, 4 * bg_
  * compiler merges the repeated expressions), so a corner pays 2 shifts where
  * an and and a compare each cost 4 instructions. */
 #define BG_HAVE_CORNER_MASKS 1
-static inline void corner_masks(vhash l, int k, vm *lt4, vm *x1214)
+static inline void corner_masks(const vhash *l, int k, vm *lt4, vm *x1214)
 {
     const __m256i tab = _mm256_setr_epi8(-128, -128, -128, -128, 0, 0, 0, 0, 0, 0, 0, 0, 64, 0, 64, 0,
                                          -128, -128, -128, -128, 0, 0, 0, 0, 0, 0, 0, 0, 64, 0, 64, 0);
     int nib = bg_corner_nib[k], byte = nib >> 1;
-    __m256i src = nib & 1 ? _mm256_srli_epi32(l, 4) : l;
+    __m256i src = nib & 1 ? _mm256_srli_epi32(*l, 4) : *l;
     __m256i m = _mm256_shuffle_epi8(tab, _mm256_and_si256(src, _mm256_set1_epi8(15)));
     *lt4 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 24 - 8 * byte));
     *x1214 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 25 - 8 * byte));
