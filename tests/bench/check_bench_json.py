@@ -4,9 +4,11 @@
 exits 0, prints one JSON array, and every record carries the documented keys
 with sane types, for every kernel name. Timing thresholds would make the test
 fail on a busy machine, which is what benchmark() numbers are for."""
+import atexit
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -42,7 +44,9 @@ def main():
     icount = {("noise3", "scalar"): 239.0}
     icount.update({("fbm3_point", isa): 1601.0 for isa in ["scalar", "sse2", "avx2", "avx512",
                                                            "neon"]})
-    path = os.path.join(tempfile.mkdtemp(), "icount.txt")
+    tmp = tempfile.mkdtemp()
+    atexit.register(shutil.rmtree, tmp, True)
+    path = os.path.join(tmp, "icount.txt")
     with open(path, "w") as f:
         for (k, isa), v in icount.items():
             f.write("%s %s %g\n" % (k, isa, v))
