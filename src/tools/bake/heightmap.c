@@ -238,10 +238,10 @@ bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
     {
         const bg_pixel_type type =
             bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
-        /* a file's format is its extension's (out_format) */
-        const char *fmt = o->format ? o->format + (o->format[0] == '.') : NULL;
-        st = bg_image_write_as(out_path, strcmp(out_path, "-") == 0 ? fmt : NULL, &out, type, 0,
-                               err, sizeof err);
+        /* a file's format is its extension's (out_format); the shim takes
+         * "exr", ".exr" or "EXR" alike */
+        st = bg_image_write_as(out_path, strcmp(out_path, "-") == 0 ? o->format : NULL, &out,
+                               type, 0, err, sizeof err);
         if (st != BG_OK)
             /* A file name without an image format is bad input; only the
              * writing itself failing is a run failure. */

@@ -539,7 +539,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         bake.progress = o->progress;
         bake.udim = mo.udim = strstr(bake_path, MESH_UDIM_TOKEN) != NULL;
         mo.path = bake_path;
-        mo.format = o->bake_format ? o->bake_format + (o->bake_format[0] == '.') : NULL;
+        mo.format = o->bake_format; /* the shim takes "exr", ".exr" or "EXR" alike */
         mo.type = (bg_pixel_type)o->bake_depth;
         if (o->bake_depth < 0)
             mo.type = map_is_exr(bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
