@@ -72,7 +72,7 @@ BG_INLINE vhash vi_hashp(vi X, vi Y, vi Z)
 }
 BG_INLINE vi vh_corner(const vhash *s, int k) { return s->h[k]; }
 #endif
-#ifdef BG_HAVE_HASHP
+#if defined(BG_HAVE_HASHP) && !defined(BG_NO_PIPELINE)
 #define BG_PIPELINE 1
 #endif
 
@@ -109,10 +109,9 @@ static const bg_real grad_lo_z[16] = {NZ, NZ, NZ, NZ, 1, 1, -1, -1, 1, 1, -1, -1
 
 BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, int ck)
 {
-    int h = hash & 15;
-    vf gx = (ck & 1 ? grad_tab_x : grad_lo_x)[h];
-    vf gy = (ck & 2 ? grad_tab_y : grad_lo_y)[h];
-    vf gz = (ck & 4 ? grad_tab_z : grad_lo_z)[h];
+    vf gx = vf_lut16(ck & 1 ? grad_tab_x : grad_lo_x, hash);
+    vf gy = vf_lut16(ck & 2 ? grad_tab_y : grad_lo_y, hash);
+    vf gz = vf_lut16(ck & 4 ? grad_tab_z : grad_lo_z, hash);
     return vf_add(vf_add(vf_mul(gx, dx), vf_mul(gy, dy)), vf_mul(gz, dz));
 }
 
@@ -123,9 +122,10 @@ BG_INLINE corner grad_corner_g(const vhash *hs, int ck, vf dx, vf dy, vf dz, int
     corner c;
     vi hash = vh_corner(hs, ck);
     c.v = grad_value(hash, dx, dy, dz, ck);
-    c.gx = c.gy = c.gz = 0;
+    c.gx = c.gy = c.gz = vf_set1(0);
     if (want_grad)
-        c.gx = grad_tab_x[hash & 15], c.gy = grad_tab_y[hash & 15], c.gz = grad_tab_z[hash & 15];
+        c.gx = vf_lut16(grad_tab_x, hash), c.gy = vf_lut16(grad_tab_y, hash),
+        c.gz = vf_lut16(grad_tab_z, hash);
     return c;
 }
 #else
