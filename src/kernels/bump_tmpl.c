@@ -128,6 +128,28 @@ BG_INLINE corner grad_corner_g(const vhash *hs, int ck, vf dx, vf dy, vf dz, int
         c.gz = vf_lut16(grad_tab_z, hash);
     return c;
 }
+#elif defined(BG_HAVE_CODED_HASH)
+/* The vocabulary's hashes are corner codes (kernels.h bg_corner_code): the
+ * first axis by bit 3 (y, else x), the second by bit 2 (z, else y), their
+ * signs by bits 0 and 1. The same value as the reference's selects, bit for
+ * bit (commutative addition for h = 12 and 14), and the same gradient vector:
+ * +-1 on the two axes, +0 on the third. */
+BG_INLINE corner grad_corner_g(const vhash *hs, int ck, vf dx, vf dy, vf dz, int want_grad)
+{
+    corner c;
+    vi hash = vh_corner(hs, ck);
+    vf first = vf_sel_bit(hash, 3, dy, dx), second = vf_sel_bit(hash, 2, dz, dy);
+    c.v = vf_add(vf_flip_bit(first, hash, 0), vf_flip_bit(second, hash, 1));
+    vf zero = vf_set1(0);
+    c.gx = c.gy = c.gz = zero;
+    if (!want_grad)
+        return c;
+    vf sf = vf_flip_bit(vf_set1(1), hash, 0), ss = vf_flip_bit(vf_set1(1), hash, 1);
+    c.gx = vf_sel_bit(hash, 3, zero, sf);
+    c.gy = vf_sel_bit(hash, 3, sf, vf_sel_bit(hash, 2, zero, ss));
+    c.gz = vf_sel_bit(hash, 2, ss, zero);
+    return c;
+}
 #else
 /* The corner masks shared by the value and the gradient: bit 3 (h >= 8: u = y),
  * h & 12 == 0 (h < 4: v = y) and h & 13 == 12 (h is 12 or 14: v = x). */

@@ -18,6 +18,26 @@ extern const int32_t bg_perm_pair[256];
 /* bg_perm_nib2[i] = (p[i] & 15) | (p[(i + 1) & 255] & 15) << 4: two corner
  * hashes (their low 4 bits) in one byte, for the last step of the chain. */
 extern const uint8_t bg_perm_nib2[256];
+/* The corner code of a hash h (its low 4 bits): Perlin's grad(h, x, y, z) =
+ * (+-u) + (+-v) restated as a first and a second axis with their signs, so
+ * that a corner needs two selects on single bits where the reference's form
+ * needs three, two of them on compares (h < 4, h == 12 || h == 14):
+ *   bit 3: the first axis is y (else x);   bit 2: the second axis is z (else y);
+ *   bit 0: the first is negated;           bit 1: the second is negated.
+ * For h < 12 the first axis is u and the second v, so the code is h with bit 2
+ * set for h = 8..11 (v = z there). For h = 12 and 14 the reference adds
+ * (+-y) + (+-x), and the code adds (+-x) + (+-y) with the signs swapped
+ * (h & 2 for x, h & 1 for y): IEEE addition is commutative, zeros included,
+ * so the value is the same bits. 13 and 15 (-y + z, -y - z) are their own
+ * codes. check_noise.c compares every code with Perlin's grad. */
+static inline int bg_corner_code(int h)
+{
+    static const uint8_t code[16] = {0, 1, 2, 3, 4, 5, 6, 7, 12, 13, 14, 15, 0, 13, 1, 15};
+    return code[h & 15];
+}
+/* bg_perm_code2[i] = bg_corner_code(p[i]) | bg_corner_code(p[(i + 1) & 255]) << 4:
+ * bg_perm_nib2 with each hash replaced by its corner code (vec_avx2.h). */
+extern const uint8_t bg_perm_code2[256];
 
 typedef struct bg_kernel_table {
     bg_isa isa;
