@@ -93,6 +93,7 @@ static inline __m512i bg_perm_bytes(__m512i idx) { return bg_perm_bytes_of(bg_pe
  * is bits 4j .. 4j+3 of each dword (j = bg_corner_nib[k]); the bits above are
  * other corners', which vf_lut16 (vpermps) ignores. */
 #define BG_HAVE_HASHP 1
+#define BG_PIPELINE_GRAD 1 /* bump_tmpl.c: 32 registers hold the carried hashes */
 typedef __m512i vhash;
 static inline vhash vi_hashp(vi X, vi Y, vi Z)
 {
