@@ -590,7 +590,7 @@ void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n,
 #ifdef BG_SCALAR_TAIL
     if (BG_TAIL1(n)) {
         size_t t = n - 1;
-        v[t] = bg_noise3_point_c(x[t], y[t], z[t]);
+        v[t] = PFN(noise3_point)(x[t], y[t], z[t]);
     }
 #endif
 }
@@ -639,7 +639,7 @@ void KFN(fractal3)(const bg_fractal *f, const bg_real *x, const bg_real *y, cons
 #ifdef BG_SCALAR_TAIL
     if (BG_TAIL1(n)) {
         size_t t = n - 1;
-        v[t] = bg_fractal3_point_c(f, x[t], y[t], z[t]);
+        v[t] = PFN(fractal3_point)(f, x[t], y[t], z[t]);
     }
 #endif
 }
@@ -780,24 +780,24 @@ void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real 
  * batch loop, arguments and result in registers. The same noise_vec /
  * fractal_vec as the batch kernels, so the same bits. */
 #if LANES == 1 && !defined(BG_SCALAR_DOUBLE)
-float bg_noise3_point_c(float x, float y, float z)
+float KFN(noise3_point)(float x, float y, float z)
 {
     return vf_canon(noise_vec(x, y, z, 0).v);
 }
 
-float bg_noise3_grad_point_c(float x, float y, float z, float g[3])
+float KFN(noise3_grad_point)(float x, float y, float z, float g[3])
 {
     corner r = noise_vec(x, y, z, 1);
     g[0] = vf_canon(r.gx), g[1] = vf_canon(r.gy), g[2] = vf_canon(r.gz);
     return vf_canon(r.v);
 }
 
-float bg_fractal3_point_c(const bg_fractal *f, float x, float y, float z)
+float KFN(fractal3_point)(const bg_fractal *f, float x, float y, float z)
 {
     return vf_canon(fractal_vec(f, x, y, z, 0).v);
 }
 
-float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, float g[3])
+float KFN(fractal3_grad_point)(const bg_fractal *f, float x, float y, float z, float g[3])
 {
     corner r = fractal_vec(f, x, y, z, 1);
     g[0] = vf_canon(r.gx), g[1] = vf_canon(r.gy), g[2] = vf_canon(r.gz);
@@ -831,10 +831,10 @@ BG_INLINE float fractal_point_lanes(const bg_fractal *f, float x, float y, float
         if (c == 1) {
             if (want_grad) {
                 float og[3];
-                nv[0] = bg_noise3_grad_point_c(x * freq, y * freq, z * freq, og);
+                nv[0] = PFN(noise3_grad_point)(x * freq, y * freq, z * freq, og);
                 nx[0] = og[0], ny[0] = og[1], nz[0] = og[2];
             } else {
-                nv[0] = bg_noise3_point_c(x * freq, y * freq, z * freq);
+                nv[0] = PFN(noise3_point)(x * freq, y * freq, z * freq);
             }
         } else {
             float fq[LANES], fr = freq;
@@ -878,14 +878,14 @@ BG_INLINE float fractal_point_lanes(const bg_fractal *f, float x, float y, float
 static float KFN(fractal3_point)(const bg_fractal *f, float x, float y, float z)
 {
     if (f->function == BG_FUNC_NOISE || f->octaves < 2)
-        return bg_fractal3_point_c(f, x, y, z);
+        return PFN(fractal3_point)(f, x, y, z);
     return fractal_point_lanes(f, x, y, z, 0, NULL);
 }
 
 static float KFN(fractal3_grad_point)(const bg_fractal *f, float x, float y, float z, float g[3])
 {
     if (f->function == BG_FUNC_NOISE || f->octaves < 2)
-        return bg_fractal3_grad_point_c(f, x, y, z, g);
+        return PFN(fractal3_grad_point)(f, x, y, z, g);
     return fractal_point_lanes(f, x, y, z, 1, g);
 }
 #endif
@@ -912,12 +912,14 @@ const bg_kernel_table KFN(kernels) = {
     .perturb_height = KFN(perturb_height),
     .fractal3_grad_fp = KFN(fractal3_grad_fp),
     .perturb_height_fp = KFN(perturb_height_fp),
-#if LANES > 1
     .fractal3_point = KFN(fractal3_point),
     .fractal3_grad_point = KFN(fractal3_grad_point),
+#if LANES > 1
+    .noise3_point = PFN(noise3_point),
+    .noise3_grad_point = PFN(noise3_grad_point),
 #else
-    .fractal3_point = bg_fractal3_point_c,
-    .fractal3_grad_point = bg_fractal3_grad_point_c,
+    .noise3_point = KFN(noise3_point),
+    .noise3_grad_point = KFN(noise3_grad_point),
 #endif
     .name = BG_STR(BG_ISA_SUFFIX),
 };

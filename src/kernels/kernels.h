@@ -70,6 +70,11 @@ typedef struct bg_kernel_table {
      * scalar table holds. `f` must be in range (bg_fractal_in_range). */
     float (*fractal3_point)(const bg_fractal *f, float x, float y, float z);
     float (*fractal3_grad_point)(const bg_fractal *f, float x, float y, float z, float g[3]);
+    /* One point of noise: the one-lane kernel, compiled with this ISA's flags
+     * where that gives shorter code (bg_noise3_point_c_avx2: VEX encoding and
+     * roundss for floor), the same operations and bits as bg_noise3_point_c. */
+    float (*noise3_point)(float x, float y, float z);
+    float (*noise3_grad_point)(float x, float y, float z, float g[3]);
     /* Name of this table's variant: the BG_ISA_SUFFIX ("c", "sse2", ..., "avx512vbmi"). */
     const char *name;
 } bg_kernel_table;
@@ -90,6 +95,17 @@ typedef struct bg_kernel_table_d {
 
 /* The table of the active ISA (bg_isa_active()); never NULL. */
 const bg_kernel_table *bg_kernels(void);
+/* The same, inline for the per-point entry points (noise.c): one load and one
+ * test before the table's call, where a call to bg_kernels() made bg_noise3
+ * spill its arguments. bg_active_table is dispatch.c's state (NULL until the
+ * first call; bg_kernels() sets it). */
+#include <stdatomic.h>
+extern _Atomic(const bg_kernel_table *) bg_active_table;
+static inline const bg_kernel_table *bg_kernels_inline(void)
+{
+    const bg_kernel_table *t = atomic_load_explicit(&bg_active_table, memory_order_acquire);
+    return t ? t : bg_kernels();
+}
 /* The table of one ISA, or NULL if this build or CPU lacks it (for the harness). */
 const bg_kernel_table *bg_kernels_for(bg_isa isa);
 /* Every table built for `isa` that this CPU can run, the one bg_kernels_for()
@@ -105,6 +121,12 @@ float bg_noise3_point_c(float x, float y, float z);
 float bg_noise3_grad_point_c(float x, float y, float z, float g[3]);
 float bg_fractal3_point_c(const bg_fractal *f, float x, float y, float z);
 float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, float g[3]);
+/* The same four, compiled with the AVX2 flags (BG_HAVE_C_AVX2; only called on
+ * a CPU with AVX2, through the AVX2 and AVX-512 tables). */
+float bg_noise3_point_c_avx2(float x, float y, float z);
+float bg_noise3_grad_point_c_avx2(float x, float y, float z, float g[3]);
+float bg_fractal3_point_c_avx2(const bg_fractal *f, float x, float y, float z);
+float bg_fractal3_grad_point_c_avx2(const bg_fractal *f, float x, float y, float z, float g[3]);
 extern const bg_kernel_table_d bg_kernels_c64;
 
 #endif
