@@ -117,18 +117,20 @@ double bg_fractal_max_coordinated(const bg_fractal *f, double frequency)
     return largest_scaled_below_d(q, fr);
 }
 
-/* Per-point noise goes straight to the scalar point functions (kernels.h): the
- * same bits as the n = 1 batch, without its table load and loop (issue 10).
- * Per-point fractals take the dispatched table's point function, which runs the
- * octaves of the one point across the vector lanes, with the same bits. */
+/* Per-point noise goes to the dispatched table's one-lane point function
+ * (kernels.h noise3_point: the scalar kernel, compiled with the AVX2 flags in
+ * the AVX2 and AVX-512 tables): the same bits as the n = 1 batch, without its
+ * loop (issue 10). Per-point fractals take the table's point function, which
+ * runs the octaves of the one point across the vector lanes, with the same
+ * bits. */
 float bg_noise3(float x, float y, float z)
 {
-    return bg_noise3_point_c(x, y, z);
+    return bg_kernels_inline()->noise3_point(x, y, z);
 }
 
 float bg_noise3_grad(float x, float y, float z, bg_vec3 *grad)
 {
-    float g[3], v = bg_noise3_grad_point_c(x, y, z, g);
+    float g[3], v = bg_kernels_inline()->noise3_grad_point(x, y, z, g);
     grad->x = g[0], grad->y = g[1], grad->z = g[2];
     return v;
 }
@@ -152,7 +154,7 @@ float bg_fractal3(const bg_fractal *f, float x, float y, float z)
 {
     if (!bg_fractal_in_range(f))
         return NAN;
-    return bg_kernels()->fractal3_point(f, x, y, z);
+    return bg_kernels_inline()->fractal3_point(f, x, y, z);
 }
 
 float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *grad)
@@ -161,7 +163,7 @@ float bg_fractal3_grad(const bg_fractal *f, float x, float y, float z, bg_vec3 *
         grad->x = grad->y = grad->z = NAN;
         return NAN;
     }
-    float g[3], v = bg_kernels()->fractal3_grad_point(f, x, y, z, g);
+    float g[3], v = bg_kernels_inline()->fractal3_grad_point(f, x, y, z, g);
     grad->x = g[0], grad->y = g[1], grad->z = g[2];
     return v;
 }
@@ -230,7 +232,7 @@ bg_status bg_noise3_batch(const float *x, const float *y, const float *z, size_t
     if (!batch_ready(n, 0, NULL, x, y, z, value, value, value, &s))
         return s;
     if (n == 1)
-        value[0] = bg_noise3_point_c(x[0], y[0], z[0]);
+        value[0] = bg_kernels_inline()->noise3_point(x[0], y[0], z[0]);
     else
         bg_kernels()->noise3(x, y, z, n, value);
     return BG_OK;
@@ -243,7 +245,7 @@ bg_status bg_noise3_grad_batch(const float *x, const float *y, const float *z, s
     if (!batch_ready(n, 0, NULL, x, y, z, gx, gy, gz, &s))
         return s;
     if (n == 1) {
-        float g[3], v = bg_noise3_grad_point_c(x[0], y[0], z[0], g);
+        float g[3], v = bg_kernels_inline()->noise3_grad_point(x[0], y[0], z[0], g);
         if (value)
             value[0] = v;
         gx[0] = g[0], gy[0] = g[1], gz[0] = g[2];

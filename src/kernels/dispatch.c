@@ -118,27 +118,34 @@ int bg_isa_supported(bg_isa isa)
     return (unsigned)isa < BG_ISA_COUNT && isa_at_or_below(isa, bg_isa_best());
 }
 
-static atomic_int active_isa = -1;
+/* The active table is the one piece of state: bg_isa_active() is its level.
+ * One atomic pointer, so that a per-point call (bg_noise3) pays one load and
+ * one test for its dispatch, and a level and its table can never disagree. */
+_Atomic(const bg_kernel_table *) bg_active_table;
 
-bg_isa bg_isa_active(void)
+static const bg_kernel_table *first_table(void)
 {
-    int a = atomic_load(&active_isa);
-    if (a < 0) {
-        bg_isa want;
-        a = bg_isa_best();
-        /* An unknown or unsupported BUMPGRAD_ISA is ignored here (the library
-         * never prints); bg_isa_env_status() reports it. */
-        const char *env = getenv("BUMPGRAD_ISA");
-        if (env && *env && bg_isa_parse(env, &want) == BG_OK && bg_isa_supported(want))
-            a = want;
-        /* Concurrent first calls compute the same level; a bg_isa_force() that
-         * got in first wins (a plain store here could undo it). */
-        int expected = -1;
-        if (!atomic_compare_exchange_strong(&active_isa, &expected, a))
-            a = expected;
-    }
-    return (bg_isa)a;
+    bg_isa want, a = bg_isa_best();
+    /* An unknown or unsupported BUMPGRAD_ISA is ignored here (the library
+     * never prints); bg_isa_env_status() reports it. */
+    const char *env = getenv("BUMPGRAD_ISA");
+    if (env && *env && bg_isa_parse(env, &want) == BG_OK && bg_isa_supported(want))
+        a = want;
+    /* Concurrent first calls compute the same table; a bg_isa_force() that
+     * got in first wins (a plain store here could undo it). */
+    const bg_kernel_table *t = table_of(a), *expected = NULL;
+    if (!atomic_compare_exchange_strong(&bg_active_table, &expected, t))
+        t = expected;
+    return t;
 }
+
+const bg_kernel_table *bg_kernels(void)
+{
+    const bg_kernel_table *t = atomic_load_explicit(&bg_active_table, memory_order_acquire);
+    return t ? t : first_table();
+}
+
+bg_isa bg_isa_active(void) { return bg_kernels()->isa; }
 
 bg_status bg_isa_force(bg_isa isa)
 {
@@ -146,7 +153,7 @@ bg_status bg_isa_force(bg_isa isa)
         return BG_ERR_INVALID_ARGUMENT;
     if (!bg_isa_supported(isa))
         return BG_ERR_UNSUPPORTED_ISA;
-    atomic_store(&active_isa, (int)isa);
+    atomic_store(&bg_active_table, table_of(isa));
     return BG_OK;
 }
 
@@ -191,11 +198,6 @@ bg_status bg_isa_env_status(char *msg, size_t msglen)
         return BG_ERR_UNSUPPORTED_ISA;
     }
     return BG_OK;
-}
-
-const bg_kernel_table *bg_kernels(void)
-{
-    return table_of(bg_isa_active());
 }
 
 const bg_kernel_table *bg_kernels_for(bg_isa isa)

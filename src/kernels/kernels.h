@@ -18,6 +18,26 @@ extern const int32_t bg_perm_pair[256];
 /* bg_perm_nib2[i] = (p[i] & 15) | (p[(i + 1) & 255] & 15) << 4: two corner
  * hashes (their low 4 bits) in one byte, for the last step of the chain. */
 extern const uint8_t bg_perm_nib2[256];
+/* The corner code of a hash h (its low 4 bits): Perlin's grad(h, x, y, z) =
+ * (+-u) + (+-v) restated as a first and a second axis with their signs, so
+ * that a corner needs two selects on single bits where the reference's form
+ * needs three, two of them on compares (h < 4, h == 12 || h == 14):
+ *   bit 3: the first axis is y (else x);   bit 2: the second axis is z (else y);
+ *   bit 0: the first is negated;           bit 1: the second is negated.
+ * For h < 12 the first axis is u and the second v, so the code is h with bit 2
+ * set for h = 8..11 (v = z there). For h = 12 and 14 the reference adds
+ * (+-y) + (+-x), and the code adds (+-x) + (+-y) with the signs swapped
+ * (h & 2 for x, h & 1 for y): IEEE addition is commutative, zeros included,
+ * so the value is the same bits. 13 and 15 (-y + z, -y - z) are their own
+ * codes. check_noise.c compares every code with Perlin's grad. */
+static inline int bg_corner_code(int h)
+{
+    static const uint8_t code[16] = {0, 1, 2, 3, 4, 5, 6, 7, 12, 13, 14, 15, 0, 13, 1, 15};
+    return code[h & 15];
+}
+/* bg_perm_code2[i] = bg_corner_code(p[i]) | bg_corner_code(p[(i + 1) & 255]) << 4:
+ * bg_perm_nib2 with each hash replaced by its corner code (vec_avx2.h). */
+extern const uint8_t bg_perm_code2[256];
 
 typedef struct bg_kernel_table {
     bg_isa isa;
@@ -50,6 +70,11 @@ typedef struct bg_kernel_table {
      * scalar table holds. `f` must be in range (bg_fractal_in_range). */
     float (*fractal3_point)(const bg_fractal *f, float x, float y, float z);
     float (*fractal3_grad_point)(const bg_fractal *f, float x, float y, float z, float g[3]);
+    /* One point of noise: the one-lane kernel, compiled with this ISA's flags
+     * where that gives shorter code (bg_noise3_point_c_avx2: VEX encoding and
+     * roundss for floor), the same operations and bits as bg_noise3_point_c. */
+    float (*noise3_point)(float x, float y, float z);
+    float (*noise3_grad_point)(float x, float y, float z, float g[3]);
     /* Name of this table's variant: the BG_ISA_SUFFIX ("c", "sse2", ..., "avx512vbmi"). */
     const char *name;
 } bg_kernel_table;
@@ -70,6 +95,17 @@ typedef struct bg_kernel_table_d {
 
 /* The table of the active ISA (bg_isa_active()); never NULL. */
 const bg_kernel_table *bg_kernels(void);
+/* The same, inline for the per-point entry points (noise.c): one load and one
+ * test before the table's call, where a call to bg_kernels() made bg_noise3
+ * spill its arguments. bg_active_table is dispatch.c's state (NULL until the
+ * first call; bg_kernels() sets it). */
+#include <stdatomic.h>
+extern _Atomic(const bg_kernel_table *) bg_active_table;
+static inline const bg_kernel_table *bg_kernels_inline(void)
+{
+    const bg_kernel_table *t = atomic_load_explicit(&bg_active_table, memory_order_acquire);
+    return t ? t : bg_kernels();
+}
 /* The table of one ISA, or NULL if this build or CPU lacks it (for the harness). */
 const bg_kernel_table *bg_kernels_for(bg_isa isa);
 /* Every table built for `isa` that this CPU can run, the one bg_kernels_for()
@@ -85,6 +121,12 @@ float bg_noise3_point_c(float x, float y, float z);
 float bg_noise3_grad_point_c(float x, float y, float z, float g[3]);
 float bg_fractal3_point_c(const bg_fractal *f, float x, float y, float z);
 float bg_fractal3_grad_point_c(const bg_fractal *f, float x, float y, float z, float g[3]);
+/* The same four, compiled with the AVX2 flags (BG_HAVE_C_AVX2; only called on
+ * a CPU with AVX2, through the AVX2 and AVX-512 tables). */
+float bg_noise3_point_c_avx2(float x, float y, float z);
+float bg_noise3_grad_point_c_avx2(float x, float y, float z, float g[3]);
+float bg_fractal3_point_c_avx2(const bg_fractal *f, float x, float y, float z);
+float bg_fractal3_grad_point_c_avx2(const bg_fractal *f, float x, float y, float z, float g[3]);
 extern const bg_kernel_table_d bg_kernels_c64;
 
 #endif

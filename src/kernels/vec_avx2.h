@@ -175,38 +175,23 @@ BG_VEC_INLINE __m256i bg_hash_hz(vi X, vi Y, vi Z)
 #endif
 }
 
-/* The last step needs only the low 4 bits of each corner hash: one lookup of
- * bg_perm_nib2 per index gives p[i] & 15 and p[i + 1] & 15, so the 8 corners
- * of 8 points are one bg_perm_bytes call, where full bytes took two (the
- * kernel of fc73bbb; docs/PERFORMANCE.md "Session 4" has both counts). The
- * packed hashes are one register (bump_tmpl.c's vhash): corner k's hash is
- * bits 4j .. 4j+3 of each dword, bits above are other corners' (the corner
- * code reads bits 0-3 only). */
+/* The last step needs only the low 4 bits of each corner hash, and those
+ * only as the corner's two axes and two signs: one lookup of bg_perm_code2
+ * per index gives the corner codes (kernels.h bg_corner_code) of p[i] and
+ * p[i + 1], so the 8 corners of 8 points are one bg_perm_bytes call, and each
+ * corner decodes with two single-bit selects (bump_tmpl.c
+ * BG_HAVE_CODED_HASH), where the reference's h < 4 and h == 12 || h == 14
+ * took a third select and two masks. The packed hashes are one register
+ * (bump_tmpl.c's vhash): corner k's code is bits 4j .. 4j+3 of each dword,
+ * bits above are other corners' (the corner code reads bits 0-3 only). */
 #define BG_HAVE_HASHP 1
+#define BG_HAVE_CODED_HASH 1
 typedef __m256i vhash;
-BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm_nib2, bg_hash_hz(X, Y, Z)); }
+BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm_code2, bg_hash_hz(X, Y, Z)); }
 /* Corner k (bit 0: x + 1, bit 1: y + 1, bit 2: z + 1): nibble 0 p[AA], 1 p[AA+1],
  * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
 static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l, 4 * bg_corner_nib[k]); }
-/* The corner masks of bump_tmpl.c (h & 12 == 0, h & 13 == 12) for all 64
- * nibbles at once: a vpshufb of a 16-entry table turns each nibble into a byte
- * with bit 7 = (h < 4) and bit 6 = (h is 12 or 14); corner k's masks are then
- * a shift that brings its byte's bit to the dword's sign bit, which is all
- * vblendvps reads. The two table lookups are shared by the 8 corners (the
- * compiler merges the repeated expressions), so a corner pays 2 shifts where
- * an and and a compare each cost 4 instructions. */
-#define BG_HAVE_CORNER_MASKS 1
-static inline void corner_masks(const vhash *l, int k, vm *lt4, vm *x1214)
-{
-    const __m256i tab = _mm256_setr_epi8(-128, -128, -128, -128, 0, 0, 0, 0, 0, 0, 0, 0, 64, 0, 64, 0,
-                                         -128, -128, -128, -128, 0, 0, 0, 0, 0, 0, 0, 0, 64, 0, 64, 0);
-    int nib = bg_corner_nib[k], byte = nib >> 1;
-    __m256i src = nib & 1 ? _mm256_srli_epi32(*l, 4) : *l;
-    __m256i m = _mm256_shuffle_epi8(tab, _mm256_and_si256(src, _mm256_set1_epi8(15)));
-    *lt4 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 24 - 8 * byte));
-    *x1214 = _mm256_castsi256_ps(_mm256_slli_epi32(m, 25 - 8 * byte));
-}
 #endif
 
 /* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is

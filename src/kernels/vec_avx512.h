@@ -72,48 +72,46 @@ static inline vm vi_test(vi a, vi bits) { return _mm512_test_epi32_mask(a, bits)
 /* Perlin's permutation applied to every byte: p256[b] for each of the 64 bytes,
  * the 256-byte table held in four zmm registers. vpermi2b indexes 128 table
  * bytes with the low 7 bits; bit 7 of each index byte picks the upper half. */
-static inline __m512i bg_perm_bytes(__m512i idx)
+static inline __m512i bg_perm_bytes_of(const uint8_t *tab, __m512i idx)
 {
-    const __m512i *t = (const __m512i *)(const void *)bg_perm256_u8;
+    const __m512i *t = (const __m512i *)(const void *)tab;
     __m512i lo = _mm512_permutex2var_epi8(_mm512_loadu_si512(t), idx, _mm512_loadu_si512(t + 1));
     __m512i hi = _mm512_permutex2var_epi8(_mm512_loadu_si512(t + 2), idx, _mm512_loadu_si512(t + 3));
     return _mm512_mask_mov_epi8(lo, _mm512_movepi8_mask(idx), hi);
 }
-/* The reference's 12-lookup hash chain in 4 byte lookups. Every index in the
+static inline __m512i bg_perm_bytes(__m512i idx) { return bg_perm_bytes_of(bg_perm256_u8, idx); }
+/* The reference's 12-lookup hash chain in 3 byte lookups. Every index in the
  * chain is only ever used modulo 256 (p has period 256: the 512-entry table is
  * two copies), so the chain runs in bytes, where vpaddb wraps for free, with
  * up to four indices per dword lane sharing one vpermi2b pair:
- *   (X, X+1)                  -> (A, B) = (p[X]+Y, p[X+1]+Y)
- *   (A, A+1, B, B+1)          -> (AA, AB, BA, BB) (+Z)
- *   (AA, AA+1, AB, AB+1), (BA, BA+1, BB, BB+1) -> the 8 corner hashes.
- * h[k] receives corner k (bit 0 = x, bit 1 = y, bit 2 = z offset) in the low
- * byte of each dword; the bytes above are other corners' hashes, which
- * vf_lut16 ignores. */
-#define BG_HAVE_HASH8 1
-static inline void vi_hash8(vi X, vi Y, vi Z, vi h[8])
+ *   (X, X+1)          -> (A, B) = (p[X]+Y, p[X+1]+Y)
+ *   (A, A+1, B, B+1)  -> (AA, AB, BA, BB) (+Z)
+ *   (AA, AB, BA, BB)  -> the 8 corner hashes, by bg_perm_nib2: the corner code
+ *                        reads only bits 0-3 of a hash, and bg_perm_nib2[i]
+ *                        holds p[i] & 15 and p[i+1] & 15 (vec_avx2.h's chain).
+ * The packed hashes are one register (bump_tmpl.c's vhash): corner k's hash
+ * is bits 4j .. 4j+3 of each dword (j = bg_corner_nib[k]); the bits above are
+ * other corners', which vf_lut16 (vpermps) ignores. */
+#define BG_HAVE_HASHP 1
+#define BG_PIPELINE_GRAD 1 /* bump_tmpl.c: 32 registers hold the carried hashes */
+typedef __m512i vhash;
+static inline vhash vi_hashp(vi X, vi Y, vi Z)
 {
     /* vpshufb patterns, per 128-bit lane: byte 0 of each dword to all four bytes;
-     * bytes (0,0,1,1) and (2,2,3,3) of each dword. */
+     * bytes (0,0,1,1) of each dword. */
     const __m512i b0 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
     const __m512i b01 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
-    const __m512i b23 = _mm512_broadcast_i32x4(_mm_setr_epi8(2, 2, 3, 3, 6, 6, 7, 7, 10, 10, 11, 11, 14, 14, 15, 15));
     const __m512i plus0101 = _mm512_set1_epi32(0x01000100);
     __m512i yb = _mm512_shuffle_epi8(Y, b0), zb = _mm512_shuffle_epi8(Z, b0);
     __m512i ab = _mm512_add_epi8(bg_perm_bytes(_mm512_add_epi8(_mm512_shuffle_epi8(X, b0), plus0101)), yb);
     __m512i i2 = _mm512_add_epi8(_mm512_shuffle_epi8(ab, b01), plus0101);
     __m512i hz = _mm512_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
-    __m512i la = bg_perm_bytes(_mm512_add_epi8(_mm512_shuffle_epi8(hz, b01), plus0101));
-    __m512i lb = bg_perm_bytes(_mm512_add_epi8(_mm512_shuffle_epi8(hz, b23), plus0101));
-    /* la = (p[AA], p[AA+1], p[AB], p[AB+1]), lb = (p[BA], p[BA+1], p[BB], p[BB+1]). */
-    h[0] = la;                          /* 000: p[AA]   */
-    h[4] = _mm512_srli_epi32(la, 8);    /* 001: p[AA+1] */
-    h[2] = _mm512_srli_epi32(la, 16);   /* 010: p[AB]   */
-    h[6] = _mm512_srli_epi32(la, 24);   /* 011: p[AB+1] */
-    h[1] = lb;                          /* 100: p[BA]   */
-    h[5] = _mm512_srli_epi32(lb, 8);    /* 101: p[BA+1] */
-    h[3] = _mm512_srli_epi32(lb, 16);   /* 110: p[BB]   */
-    h[7] = _mm512_srli_epi32(lb, 24);   /* 111: p[BB+1] */
+    return bg_perm_bytes_of(bg_perm_nib2, hz);
 }
+/* Corner k (bit 0: x + 1, bit 1: y + 1, bit 2: z + 1): nibble 0 p[AA], 1 p[AA+1],
+ * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
+static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
+static inline vi vh_corner(const vhash *l, int k) { return _mm512_srli_epi32(*l, (unsigned)(4 * bg_corner_nib[k])); }
 #else
 #endif
 /* bg_perm_pair[idx & 255]: vpgatherdd (the VBMI variant replaces the whole
@@ -153,6 +151,13 @@ static inline vf vf_canon(vf a)
     return _mm512_mask_mov_ps(a, _mm512_cmp_ps_mask(a, a, _CMP_UNORD_Q), _mm512_set1_ps(NAN));
 }
 
+/* The corners by table (bump_tmpl.c BG_GRAD_BY_TABLE): three vpermps of
+ * 16-entry tables, three products and two sums per corner, where the selects
+ * and sign flips cost about 12 instructions; the gradient vector is the three
+ * looked-up components themselves. */
+#ifndef BG_AVX512_CORNER_SELECTS
+#define BG_GRAD_BY_TABLE 1
+#endif
 /* tab[idx & 15]: vpermps ignores the index bits above 3. */
 static inline vf vf_lut16(const float *tab, vi idx) { return _mm512_permutexvar_ps(idx, _mm512_loadu_ps(tab)); }
 /* floor value mod 256: vcvttps2dq gives 0x80000000 (low byte 0) for NaN, Inf and

@@ -25,7 +25,14 @@ typedef double bg_real;
 #define BG_FLOOR floor
 #define BG_FABS fabs
 #else
+/* BG_C_SUFFIX: this one-lane vocabulary compiled again with another ISA's
+ * flags (meson.build: c_avx2, the single points of the AVX2 and AVX-512
+ * tables; VEX encoding and roundss, the same operations and bits). */
+#ifdef BG_C_SUFFIX
+#define BG_ISA_SUFFIX BG_C_SUFFIX
+#else
 #define BG_ISA_SUFFIX c
+#endif
 #define BG_REAL_MAX FLT_MAX
 typedef float bg_real;
 #define BG_SQRT sqrtf

@@ -72,8 +72,9 @@ static const bg_fractal fractals[] = {
 };
 #define NFRACTALS (sizeof fractals / sizeof fractals[0])
 
-/* Every table's fractal3_point / fractal3_grad_point against the scalar point
- * functions (which checkkernels ties to the batch with n = 1), and the public
+/* Every table's noise3_point / noise3_grad_point (on AVX2 and AVX-512 the
+ * one-lane kernel compiled with the AVX2 flags) and fractal3_point /
+ * fractal3_grad_point against the scalar point functions (which checkkernels ties to the batch with n = 1), and the public
  * bg_fractal3(_grad) against bg_kernels_c.fractal3(_grad) with n = 1. */
 static void check_points(const bg_kernel_table *t)
 {
@@ -81,6 +82,11 @@ static void check_points(const bg_kernel_table *t)
     for (int r = 0; r < 6000; r++) {
         const bg_fractal *f = &fractals[r % NFRACTALS];
         float x = coord(), y = coord(), z = coord(), g[3], pg[3], v, pv;
+        bad += !same_bits(t->noise3_point(x, y, z), bg_noise3_point_c(x, y, z));
+        v = bg_noise3_grad_point_c(x, y, z, g);
+        pv = t->noise3_grad_point(x, y, z, pg);
+        bad += !same_bits(v, pv) || !same_bits(g[0], pg[0]) || !same_bits(g[1], pg[1]) ||
+               !same_bits(g[2], pg[2]);
         bad += !same_bits(t->fractal3_point(f, x, y, z), bg_fractal3_point_c(f, x, y, z));
         v = bg_fractal3_grad_point_c(f, x, y, z, g);
         pv = t->fractal3_grad_point(f, x, y, z, pg);
@@ -98,7 +104,7 @@ static void check_points(const bg_kernel_table *t)
     }
     checks += 2;
     if (bad)
-        fail("fractal3_point / fractal3_grad_point differ from the scalar point function",
+        fail("noise3_point / fractal3_point (or their _grad) differ from the scalar point function",
              t->name);
     if (badpub)
         fail("bg_fractal3 / bg_fractal3_grad differ from the scalar kernel with n = 1", t->name);

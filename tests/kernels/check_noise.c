@@ -25,7 +25,25 @@ static void check_tables(void)
             fail("bg_perm_pair[i] != p[i] | p[i + 1] << 8");
         if (i < 256 && bg_perm_nib2[i] != ((p & 15) | (bg_perm512[i + 1] & 15) << 4))
             fail("bg_perm_nib2[i] != (p[i] & 15) | (p[i + 1] & 15) << 4");
+        if (i < 256 && bg_perm_code2[i] != (bg_corner_code(p) | bg_corner_code(bg_perm512[i + 1]) << 4))
+            fail("bg_perm_code2[i] != code(p[i]) | code(p[i + 1]) << 4");
     }
+    /* The corner code against Perlin's grad, bit for bit, on offsets that
+     * include both zeros: first/second axis and their signs (kernels.h). */
+    const float d[] = {0.0f, -0.0f, 0.375f, -0.625f, 1.0f, -1.0f};
+    for (int h = 0; h < 16; h++)
+        for (int a = 0; a < 6; a++)
+            for (int b = 0; b < 6; b++)
+                for (int c = 0; c < 6; c++) {
+                    float x = d[a], y = d[b], z = d[c];
+                    float u = h < 8 ? x : y, v = h < 4 ? y : (h == 12 || h == 14 ? x : z);
+                    float ref = ((h & 1) == 0 ? u : -u) + ((h & 2) == 0 ? v : -v);
+                    int k = bg_corner_code(h);
+                    float first = k & 8 ? y : x, second = k & 4 ? z : y;
+                    float got = (k & 1 ? -first : first) + (k & 2 ? -second : second);
+                    if (memcmp(&ref, &got, sizeof ref) != 0)
+                        fail("bg_corner_code(h) disagrees with Perlin's grad(h, x, y, z)");
+                }
 }
 
 /* Perlin's Java reference on the integer cube [0,64)^3, bit for bit including
