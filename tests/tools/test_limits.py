@@ -188,6 +188,34 @@ with tempfile.TemporaryDirectory() as d:
     else:
         print("skip: strace not found (the VDB read-once check)")
 
+    # The probe child's time-out (BUMPGRAD_CHILD_TIMEOUT, then the parent's 1 s
+    # of grace and SIGKILL). No valid file is slow enough to read on every
+    # machine, so the child is held from outside: strace delays the return of
+    # its alarm() call (the alarm is already armed then; only the children of
+    # the I/O shim call alarm) by 3 s, three times the 1 s time-out, so the
+    # child is past its time-out on any machine, fast or loaded. A parent that
+    # took a killed child for a good probe would read the file and exit 0.
+    delay_ok = strace and subprocess.run(
+        [strace, "-qq", "-o", os.devnull, "-e", "trace=alarm", "-e",
+         "inject=alarm:delay_exit=1", "true"], capture_output=True).returncode == 0
+    if delay_ok:
+        if os.path.exists(os.path.join(d, "o.csv")):
+            os.remove(os.path.join(d, "o.csv"))
+        t0 = time.monotonic()
+        r = subprocess.run([strace, "-qq", "-f", "-o", os.devnull, "-e", "trace=alarm", "-e",
+                            "inject=alarm:delay_exit=3000000", EXE, "perturb", "--height-grid",
+                            "v64.vdb", "-i", "pts.csv", "-o", "o.csv"], cwd=d,
+                           capture_output=True, text=True, timeout=60,
+                           env=dict(os.environ, BUMPGRAD_NO_PROGRESS="1",
+                                    BUMPGRAD_CHILD_TIMEOUT="1"))
+        dt = time.monotonic() - t0
+        check(r.returncode == 2 and "'v64.vdb': reading the VDB file took over 1 s" in r.stderr
+              and not os.path.exists(os.path.join(d, "o.csv")),
+              f"a probe child past BUMPGRAD_CHILD_TIMEOUT=1 fails the command, nothing written "
+              f"(rc {r.returncode}, {dt:.1f} s, {r.stderr.strip()})")
+    else:
+        print("skip: strace with syscall delay injection not usable (the VDB probe time-out)")
+
     # A PLY header without end_header: assimp loops forever in the import child.
     with open(os.path.join(d, "h.ply"), "w") as f:
         f.write("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n")

@@ -33,7 +33,8 @@ static bg_status bad(bgt_npy_in *a, size_t off, const char *what)
     return bgt_fail(a->err, BG_ERR_FORMAT, "%s: byte %zu: %s", a->name, off, what);
 }
 
-/* The value of 'key' in a header dict: a pointer just after "'key':" and blanks. */
+/* The value of 'key' in a header dict: a pointer just after "'key':" and blanks;
+ * NULL if the key is absent or the header ends there (no value). */
 static const char *dict_value(const char *h, const char *key)
 {
     char pat[32];
@@ -49,7 +50,7 @@ static const char *dict_value(const char *h, const char *key)
     p++;
     while (*p == ' ')
         p++;
-    return p;
+    return *p ? p : NULL;
 }
 
 bg_status bgt_npy_open(bgt_npy_in *a, bgt_err *err, const char *path, int allow_nonfinite,
