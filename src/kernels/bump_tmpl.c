@@ -160,14 +160,12 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, vm lt4, vm x1214)
     return vf_add(vf_flip_bit(u, hash, 0), vf_flip_bit(v, hash, 1));
 }
 
-#ifndef BG_HAVE_CORNER_MASKS
 BG_INLINE void corner_masks(const vhash *hs, int ck, vm *lt4, vm *x1214)
 {
     vi hash = vh_corner(hs, ck);
     *lt4 = vi_eq(vi_and(hash, vi_set1(12)), vi_set1(0));
     *x1214 = vi_eq(vi_and(hash, vi_set1(13)), vi_set1(12));
 }
-#endif
 
 /* Corner ck's value and, when `want_grad` (a constant after inlining), its
  * gradient vector. */
