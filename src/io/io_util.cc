@@ -12,10 +12,14 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 void bg_io_set_error(char *err, size_t errlen, const char *fmt, ...)
@@ -191,4 +195,59 @@ void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s)
     // SIGALRM's default action ends the child; the parent reports the time-out.
     signal(SIGALRM, SIG_DFL);
     alarm(timeout_s);
+}
+
+namespace {
+long ms_since(const struct timespec &t0)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (t.tv_sec - t0.tv_sec) * 1000L + (t.tv_nsec - t0.tv_nsec) / 1000000L;
+}
+
+int reap(pid_t pid, int *status)
+{
+    while (waitpid(pid, status, 0) < 0)
+        if (errno != EINTR)
+            return -1;
+    return 0;
+}
+} // namespace
+
+int bg_io_wait_child(pid_t pid, long ms, int *status)
+{
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+#ifdef SYS_pidfd_open
+    const int pfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
+    if (pfd >= 0) {
+        for (;;) {
+            const long left = ms - ms_since(t0);
+            struct pollfd p = {pfd, POLLIN, 0};
+            const int r = left > 0 ? poll(&p, 1, static_cast<int>(std::min(left, 1L << 30))) : 0;
+            if (r < 0 && errno == EINTR)
+                continue;
+            close(pfd);
+            if (r == 0) // the deadline
+                break;
+            // Readable (the child ended), or poll failed: waitpid decides.
+            return reap(pid, status) < 0 ? -1 : 0;
+        }
+        kill(pid, SIGKILL);
+        return reap(pid, status) < 0 ? -1 : 1;
+    }
+#endif
+    for (;;) {
+        const pid_t r = waitpid(pid, status, WNOHANG);
+        if (r == pid)
+            return 0;
+        if (r < 0 && errno != EINTR)
+            return -1;
+        if (ms_since(t0) >= ms)
+            break;
+        struct timespec ts = {0, 10 * 1000 * 1000};
+        nanosleep(&ts, nullptr);
+    }
+    kill(pid, SIGKILL);
+    return reap(pid, status) < 0 ? -1 : 1;
 }

@@ -106,5 +106,11 @@ BG_IO_HIDDEN unsigned bg_io_child_timeout(void);
 /* In the child, right after fork: die with the parent (PR_SET_PDEATHSIG),
  * cap the address space (0 = no cap), and end by SIGALRM after timeout_s. */
 BG_IO_HIDDEN void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s);
+/* In the parent: wait for child `pid` to end, for at most `ms` milliseconds,
+ * then SIGKILL it and reap it. The wait sleeps on a pidfd (poll), so it returns
+ * as soon as the child ends; without pidfd_open (Linux < 5.3) it polls
+ * waitpid every 10 ms. *status is the wait status. Returns 0 if the child
+ * ended by itself, 1 if it was killed at the deadline, -1 if waitpid failed. */
+BG_IO_HIDDEN int bg_io_wait_child(pid_t pid, long ms, int *status);
 
 #endif

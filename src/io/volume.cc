@@ -693,23 +693,12 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
                 ::close(fd);
         }
     } reply{msg[0]};
+    // The child's own alarm ends it after `timeout` s; 1 s later it is killed.
+    // The status stays the child's (killed by SIGKILL): a time-out must never
+    // fall through to reading the file in-process, without limits.
     int status = 0;
-    for (int waited_ms = 0;; waited_ms += 10) {
-        pid_t r = ::waitpid(pid, &status, WNOHANG);
-        if (r == pid)
-            break;
-        if (r < 0 && errno != EINTR)
-            return BG_OK;
-        if (waited_ms >= 1000 * static_cast<int>(timeout) + 1000) {
-            // The status stays the child's (killed by SIGKILL): a time-out must
-            // never fall through to reading the file in-process, without limits.
-            ::kill(pid, SIGKILL);
-            ::waitpid(pid, &status, 0);
-            break;
-        }
-        struct timespec ts = {0, 10 * 1000 * 1000};
-        nanosleep(&ts, nullptr);
-    }
+    if (bg_io_wait_child(pid, 1000L * static_cast<long>(timeout) + 1000L, &status) < 0)
+        return BG_OK;
     if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGALRM || WTERMSIG(status) == SIGKILL)) {
         bg_io_set_error(err, errlen,
                         "'%s': reading the VDB file took over %u s; giving up (set "
