@@ -143,7 +143,11 @@ bg_status bgt_npy_open(bgt_npy_in *a, bgt_err *err, const char *path, int allow_
                  need, a->size - a->data_off);
         return bad(a, a->size, msg);
     }
-    a->buf = malloc(NPY_BLOCK_BYTES);
+    /* The block buffer holds what the shape needs, up to NPY_BLOCK_BYTES: a
+     * file of a few rows does not cost a 1 MiB allocation (and its page
+     * faults) per open. */
+    a->buf_bytes = need < NPY_BLOCK_BYTES ? (need ? need : 1) : NPY_BLOCK_BYTES;
+    a->buf = malloc(a->buf_bytes);
     if (!a->buf)
         return bgt_fail(err, BG_ERR_OUT_OF_MEMORY, "out of memory");
     return 0;
@@ -156,8 +160,8 @@ bg_status bgt_npy_read(bgt_npy_in *a, int dbl, float *const *fcols, double *cons
     size_t want = a->rows - a->row;
     if (want > max)
         want = max;
-    if (want > NPY_BLOCK_BYTES / rb)
-        want = NPY_BLOCK_BYTES / rb;
+    if (want > a->buf_bytes / rb)
+        want = a->buf_bytes / rb;
     *rows = 0;
     if (want == 0)
         return 0;

@@ -26,6 +26,7 @@ typedef struct bgt_npy_in {
     size_t size;      /* file size */
     int allow_nonfinite;
     unsigned char *buf;
+    size_t buf_bytes; /* min(the shape's data bytes, NPY_BLOCK_BYTES), at least 1 */
 } bgt_npy_in;
 
 /* Open and validate the header: magic, version, '<f4' or '<f8', C order,
