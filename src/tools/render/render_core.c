@@ -348,33 +348,19 @@ static bg_vec3 tex_normalmap(const render_scene *S, int prim, const float bc[2],
     return (bg_vec3){(float)(side * out[0]), (float)(side * out[1]), (float)(side * out[2])};
 }
 
-static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
+/* The samples of one tile: tx, ty in tiles, the sample grid SW x SH. */
+typedef struct tile_geom {
+    int ts, ss, SW, SH;
+    int sx0, sy0; /* first sample of the tile */
+    size_t ns;    /* samples in the tile */
+    float aspect;
+    int textured; /* the mesh has UVs and the job textures */
+} tile_geom;
+
+/* Copy the hit samples' positions and normals into the batch arrays;
+ * bidx maps batch entries back to samples. */
+static size_t gather_hits(tile_buf *T, size_t ns)
 {
-    render_job *J = C->job;
-    const render_scene *S = J->scene;
-    const int ss = J->ss, ts = T->ts, SW = J->width * ss, SH = J->height_px * ss;
-    /* Sample (sx, sy) looks through ((sx + 0.5) / SW, (sy + 0.5) / SH) of the
-     * image: pixel centres for s = 1, the sub-cell centres otherwise. */
-    const int sx0 = tx * TILE * ss, sy0 = ty * TILE * ss;
-    const size_t ns = (size_t)ts * ts;
-    const float aspect = (float)J->width / (float)J->height_px;
-
-    /* 1. Rays and hits for the whole tile, also past the image edge: the quads
-     * there still need all four lanes, as on a GPU. */
-    for (int j = 0; j < ts; j++)
-        for (int i = 0; i < ts; i++) {
-            size_t k = (size_t)j * ts + i;
-            float u = ((2.0f * ((float)(sx0 + i) + 0.5f)) / (float)SW - 1.0f) * aspect * S->tan_half;
-            float v = (1.0f - (2.0f * ((float)(sy0 + j) + 0.5f)) / (float)SH) * S->tan_half;
-            float *d = T->dir + k * 3;
-            for (int a = 0; a < 3; a++)
-                d[a] = S->fwd[a] + u * S->right[a] + v * S->up[a];
-            bg_f3_normalize(d);
-            T->hit[k] = (unsigned char)trace(S, d, T->p + k * 3, T->n + k * 3, T->nf + k * 3,
-                                             &T->prim[k], T->bc + k * 2);
-        }
-
-    /* 2. Heights and the reference (analytic surfgrad, Listing 3) in one batch. */
     size_t nb = 0;
     for (size_t k = 0; k < ns; k++)
         if (T->hit[k]) {
@@ -382,277 +368,370 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
             T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1], T->bnz[nb] = T->n[k * 3 + 2];
             T->bidx[nb++] = (int)k;
         }
+    return nb;
+}
+
+/* The batch's normals (box, boy, boz) back to their samples, 3 per sample. */
+static void scatter_normals(const tile_buf *T, size_t nb, float *dst)
+{
+    for (size_t b = 0; b < nb; b++) {
+        size_t k = (size_t)T->bidx[b];
+        dst[k * 3] = T->box[b], dst[k * 3 + 1] = T->boy[b], dst[k * 3 + 2] = T->boz[b];
+    }
+}
+
+/* 1. Rays and hits for the whole tile, also past the image edge: the quads
+ * there still need all four lanes, as on a GPU. Sample (sx, sy) looks through
+ * ((sx + 0.5) / SW, (sy + 0.5) / SH) of the image: pixel centres for s = 1,
+ * the sub-cell centres otherwise. */
+static void tile_rays(const render_scene *S, tile_buf *T, const tile_geom *G)
+{
+    const int ts = G->ts;
+    for (int j = 0; j < ts; j++)
+        for (int i = 0; i < ts; i++) {
+            size_t k = (size_t)j * ts + i;
+            float u = ((2.0f * ((float)(G->sx0 + i) + 0.5f)) / (float)G->SW - 1.0f) * G->aspect *
+                      S->tan_half;
+            float v = (1.0f - (2.0f * ((float)(G->sy0 + j) + 0.5f)) / (float)G->SH) * S->tan_half;
+            float *d = T->dir + k * 3;
+            for (int a = 0; a < 3; a++)
+                d[a] = S->fwd[a] + u * S->right[a] + v * S->up[a];
+            bg_f3_normalize(d);
+            T->hit[k] = (unsigned char)trace(S, d, T->p + k * 3, T->n + k * 3, T->nf + k * 3,
+                                             &T->prim[k], T->bc + k * 2);
+        }
+}
+
+/* 2. Heights and the reference (analytic surfgrad, Listing 3) in one batch. */
+static void tile_solid(run_ctx *C, tile_buf *T, const tile_geom *G)
+{
+    size_t nb = gather_hits(T, G->ns);
     if (!C->need_solid)
         nb = 0; /* a texture-only job: the solid height is not used */
     bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
                        T->bnz, nb, T->bh, T->box, T->boy, T->boz);
+    for (size_t b = 0; b < nb; b++)
+        T->h[T->bidx[b]] = T->bh[b];
+    scatter_normals(T, nb, T->ref);
+}
+
+/* 2b. Texture coordinates of the hits; the reference of a textured job is
+ * eq. 3 on the UV chart (surfgrad-heightmap). */
+static void tile_texcoords(const run_ctx *C, tile_buf *T, const tile_geom *G)
+{
+    const render_scene *S = C->job->scene;
+    for (size_t k = 0; k < G->ns; k++) {
+        if (!T->hit[k])
+            continue;
+        const float *UV = S->mesh->uv + (size_t)T->prim[k] * 6, *bc = T->bc + k * 2;
+        float b0 = 1.0f - bc[0] - bc[1];
+        for (int c = 0; c < 2; c++)
+            T->st[k * 2 + c] = (b0 * UV[c] + bc[0] * UV[2 + c] + bc[1] * UV[4 + c]) * S->tex->st_scale;
+        if (C->tex_ref) {
+            bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, T->n + k * 3);
+            put3(bg_resolve_normal(v3(T->n + k * 3), &g, NULL, 1), T->ref + k * 3);
+        }
+    }
+}
+
+/* The footprint of sample k on the surface from the ray differentials at the
+ * hit (bg_ray_differentials on the face plane): the longer of |dp/dx|, |dp/dy|. */
+static float hit_footprint(const render_scene *S, const tile_buf *T, const tile_geom *G, size_t k)
+{
+    const float dxs = 2.0f * G->aspect * S->tan_half / (float)G->SW,
+                dys = -2.0f * S->tan_half / (float)G->SH;
+    const float *p = T->p + k * 3, *d = T->dir + k * 3;
+    /* d is unit: its derivative is (dD - d (d . dD)) / |D|, |D| = 1 / (d . fwd). */
+    float invD = bg_f3_dot(d, S->fwd), ddx[3], ddy[3];
+    float ddotx = dxs * bg_f3_dot(d, S->right), ddoty = dys * bg_f3_dot(d, S->up);
+    for (int a = 0; a < 3; a++) {
+        ddx[a] = (dxs * S->right[a] - d[a] * ddotx) * invD;
+        ddy[a] = (dys * S->up[a] - d[a] * ddoty) * invD;
+    }
+    bg_vec3 dpdx, dpdy;
+    bg_ray_differentials(v3(p), v3(T->nf + k * 3), v3(S->eye), v3(d), v3(ddx), v3(ddy), &dpdx,
+                         &dpdy);
+    float fx = sqrtf(dpdx.x * dpdx.x + dpdx.y * dpdx.y + dpdx.z * dpdx.z);
+    float fy = sqrtf(dpdy.x * dpdy.x + dpdy.y * dpdy.y + dpdy.z * dpdy.z);
+    return fx > fy ? fx : fy;
+}
+
+/* 2c. The detail map of `detail`: the solid turbulence's surface gradient
+ * with no octave finer than the sample's footprint (hit_footprint). */
+static void tile_detail(run_ctx *C, tile_buf *T, const tile_geom *G)
+{
+    const render_scene *S = C->job->scene;
+    size_t nb = gather_hits(T, G->ns);
+    for (size_t b = 0; b < nb; b++)
+        T->bh[b] = hit_footprint(S, T, G, (size_t)T->bidx[b]);
+    if (C->analytic.grid_path)
+        bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx, T->bny,
+                           T->bnz, nb, NULL, T->box, T->boy, T->boz);
+    else
+        bg_perturb_height_footprint_batch(&C->analytic.h, BG_PERTURB_SURFGRAD, T->bh, T->bx, T->by,
+                                          T->bz, T->bnx, T->bny, T->bnz, nb, NULL, T->box, T->boy,
+                                          T->boz);
     for (size_t b = 0; b < nb; b++) {
         size_t k = (size_t)T->bidx[b];
-        T->h[k] = T->bh[b];
-        T->ref[k * 3] = T->box[b], T->ref[k * 3 + 1] = T->boy[b], T->ref[k * 3 + 2] = T->boz[b];
+        /* The perturbed normal back to its surface gradient (exact for m . n > 0). */
+        bg_vec3 g = bg_surfgrad_from_perturbed_normal(v3(T->n + k * 3),
+                                                      (bg_vec3){T->box[b], T->boy[b], T->boz[b]});
+        put3(g, T->gd + k * 3);
     }
+}
 
-    /* 2b. Texture coordinates of the hits; the reference of a textured job is
-     * eq. 3 on the UV chart (surfgrad-heightmap). */
-    const int textured = S->tex && S->mesh && S->mesh->uv;
-    if (textured)
-        for (size_t k = 0; k < ns; k++) {
-            if (!T->hit[k])
-                continue;
-            const float *UV = S->mesh->uv + (size_t)T->prim[k] * 6, *bc = T->bc + k * 2;
-            float b0 = 1.0f - bc[0] - bc[1];
-            for (int c = 0; c < 2; c++)
-                T->st[k * 2 + c] =
-                    (b0 * UV[c] + bc[0] * UV[2 + c] + bc[1] * UV[4 + c]) * S->tex->st_scale;
-            if (C->tex_ref) {
-                bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, T->n + k * 3);
-                put3(bg_resolve_normal(v3(T->n + k * 3), &g, NULL, 1), T->ref + k * 3);
+/* 3, one lane l of hit sample k's quad. A lane covered by the same primitive
+ * contributes its own values; any other lane is what a GPU makes a helper
+ * lane: it interpolates the primitive's attributes beyond its edge. For a
+ * triangle that is the extension of its plane; for the analytic sphere we
+ * extend the tangent plane of the nearest hit lane of the quad (the ray meets
+ * that plane). Returns 1 for a helper lane whose height is still to be
+ * evaluated (at qp), 0 otherwise. */
+static int quad_lane(const render_scene *S, tile_buf *T, int ts, size_t k, int l)
+{
+    int i = (int)(k % (size_t)ts), j = (int)(k / (size_t)ts);
+    int qi = i & ~1, qj = j & ~1;
+    size_t m = (size_t)(qj + (l >> 1)) * ts + (size_t)(qi + (l & 1));
+    float *qp = T->qp + k * 12 + l * 3, *qn = T->qn + k * 12 + l * 3;
+    T->qok[k * 4 + l] = 1;
+    if (T->hit[m] && (!S->mesh || T->prim[m] == T->prim[k])) {
+        memcpy(qp, T->p + m * 3, 3 * sizeof(float));
+        memcpy(qn, S->mesh ? T->nf + k * 3 : T->n + m * 3, 3 * sizeof(float));
+        T->qh[k * 4 + l] = T->h[m];
+        return 0;
+    }
+    const float *P0, *N0;
+    if (S->mesh) {
+        P0 = S->mesh->pos + (size_t)T->prim[k] * 9;
+        N0 = T->nf + k * 3;
+    } else {
+        size_t src = k;
+        for (int x = 1; x < 4; x++) {
+            int o = l ^ x;
+            size_t mm = (size_t)(qj + (o >> 1)) * ts + (size_t)(qi + (o & 1));
+            if (T->hit[mm]) {
+                src = mm;
+                break;
             }
         }
-
-    /* 2c. The detail map of `detail`: the solid turbulence's surface gradient
-     * with no octave finer than the sample's footprint, which comes from the
-     * ray differentials at the hit (bg_ray_differentials on the face plane). */
-    if (C->need_detail && textured) {
-        const float dxs = 2.0f * aspect * S->tan_half / (float)SW, dys = -2.0f * S->tan_half / (float)SH;
-        nb = 0;
-        for (size_t k = 0; k < ns; k++)
-            if (T->hit[k]) {
-                const float *p = T->p + k * 3, *n = T->n + k * 3, *d = T->dir + k * 3;
-                /* d is unit: its derivative is (dD - d (d . dD)) / |D|, |D| = 1 / (d . fwd). */
-                float invD = bg_f3_dot(d, S->fwd), ddx[3], ddy[3];
-                float ddotx = dxs * bg_f3_dot(d, S->right), ddoty = dys * bg_f3_dot(d, S->up);
-                for (int a = 0; a < 3; a++) {
-                    ddx[a] = (dxs * S->right[a] - d[a] * ddotx) * invD;
-                    ddy[a] = (dys * S->up[a] - d[a] * ddoty) * invD;
-                }
-                bg_vec3 dpdx, dpdy;
-                bg_ray_differentials(v3(p), v3(T->nf + k * 3), v3(S->eye), v3(d), v3(ddx), v3(ddy),
-                                     &dpdx, &dpdy);
-                float fx = sqrtf(dpdx.x * dpdx.x + dpdx.y * dpdx.y + dpdx.z * dpdx.z);
-                float fy = sqrtf(dpdy.x * dpdy.x + dpdy.y * dpdy.y + dpdy.z * dpdy.z);
-                T->bh[nb] = fx > fy ? fx : fy;
-                T->bx[nb] = p[0], T->by[nb] = p[1], T->bz[nb] = p[2];
-                T->bnx[nb] = n[0], T->bny[nb] = n[1], T->bnz[nb] = n[2];
-                T->bidx[nb++] = (int)k;
-            }
-        if (C->analytic.grid_path)
-            bgt_height_perturb(&C->analytic, BG_PERTURB_SURFGRAD, T->bx, T->by, T->bz, T->bnx,
-                               T->bny, T->bnz, nb, NULL, T->box, T->boy, T->boz);
-        else
-            bg_perturb_height_footprint_batch(&C->analytic.h, BG_PERTURB_SURFGRAD, T->bh, T->bx,
-                                              T->by, T->bz, T->bnx, T->bny, T->bnz, nb, NULL,
-                                              T->box, T->boy, T->boz);
-        for (size_t b = 0; b < nb; b++) {
-            size_t k = (size_t)T->bidx[b];
-            /* The perturbed normal back to its surface gradient (exact for m . n > 0). */
-            bg_vec3 g = bg_surfgrad_from_perturbed_normal(
-                v3(T->n + k * 3), (bg_vec3){T->box[b], T->boy[b], T->boz[b]});
-            put3(g, T->gd + k * 3);
-        }
+        P0 = T->p + src * 3;
+        N0 = T->n + src * 3;
     }
+    const float *d = T->dir + m * 3;
+    float w[3] = {P0[0] - S->eye[0], P0[1] - S->eye[1], P0[2] - S->eye[2]};
+    float dn = bg_f3_dot(d, N0), t = dn != 0 ? bg_f3_dot(w, N0) / dn : -1.0f;
+    if (!(t > 0) || !isfinite(t)) {
+        T->qok[k * 4 + l] = 0; /* the plane is edge-on or behind the eye */
+        return 0;
+    }
+    for (int a = 0; a < 3; a++)
+        qp[a] = S->eye[a] + t * d[a];
+    memcpy(qn, N0, 3 * sizeof(float));
+    return 1;
+}
 
-    /* 3. Quad neighbourhoods for the screen-space methods. A lane covered by the
-     * same primitive contributes its own values; any other lane is what a GPU
-     * makes a helper lane: it interpolates the primitive's attributes beyond
-     * its edge. For a triangle that is the extension of its plane; for the
-     * analytic sphere we extend the tangent plane of the nearest hit lane of
-     * the quad (the ray meets that plane) and evaluate the solid height there. */
-    if (C->need_quads) {
-        size_t nh = 0;
-        for (size_t k = 0; k < ns; k++) {
-            if (!T->hit[k])
-                continue;
-            int i = (int)(k % (size_t)ts), j = (int)(k / (size_t)ts);
-            int qi = i & ~1, qj = j & ~1;
-            for (int l = 0; l < 4; l++) {
-                size_t m = (size_t)(qj + (l >> 1)) * ts + (size_t)(qi + (l & 1));
-                float *qp = T->qp + k * 12 + l * 3, *qn = T->qn + k * 12 + l * 3;
-                T->qok[k * 4 + l] = 1;
-                if (T->hit[m] && (!S->mesh || T->prim[m] == T->prim[k])) {
-                    memcpy(qp, T->p + m * 3, 3 * sizeof(float));
-                    memcpy(qn, S->mesh ? T->nf + k * 3 : T->n + m * 3, 3 * sizeof(float));
-                    T->qh[k * 4 + l] = T->h[m];
-                    continue;
-                }
-                const float *P0, *N0;
-                if (S->mesh) {
-                    P0 = S->mesh->pos + (size_t)T->prim[k] * 9;
-                    N0 = T->nf + k * 3;
-                } else {
-                    size_t src = k;
-                    for (int x = 1; x < 4; x++) {
-                        int o = l ^ x;
-                        size_t mm = (size_t)(qj + (o >> 1)) * ts + (size_t)(qi + (o & 1));
-                        if (T->hit[mm]) {
-                            src = mm;
-                            break;
-                        }
-                    }
-                    P0 = T->p + src * 3;
-                    N0 = T->n + src * 3;
-                }
-                const float *d = T->dir + m * 3;
-                float w[3] = {P0[0] - S->eye[0], P0[1] - S->eye[1], P0[2] - S->eye[2]};
-                float dn = bg_f3_dot(d, N0), t = dn != 0 ? bg_f3_dot(w, N0) / dn : -1.0f;
-                if (!(t > 0) || !isfinite(t)) {
-                    T->qok[k * 4 + l] = 0; /* the plane is edge-on or behind the eye */
-                    continue;
-                }
-                for (int a = 0; a < 3; a++)
-                    qp[a] = S->eye[a] + t * d[a];
-                memcpy(qn, N0, 3 * sizeof(float));
+/* 3. Quad neighbourhoods for the screen-space methods (quad_lane), their
+ * texture coordinates, and the helper lanes' solid heights in one batch. */
+static void tile_quads(run_ctx *C, tile_buf *T, const tile_geom *G)
+{
+    const render_scene *S = C->job->scene;
+    size_t nh = 0;
+    for (size_t k = 0; k < G->ns; k++) {
+        if (!T->hit[k])
+            continue;
+        for (int l = 0; l < 4; l++)
+            if (quad_lane(S, T, G->ts, k, l)) {
+                const float *qp = T->qp + k * 12 + l * 3;
                 T->bx[nh] = qp[0], T->by[nh] = qp[1], T->bz[nh] = qp[2];
                 T->bidx[nh++] = (int)(k * 4 + (size_t)l);
             }
-        }
-        /* Texture coordinates of the four lanes: the affine extension of the
-         * centre sample's triangle, which is what a GPU interpolates for the
-         * lanes of a quad (covered or helper) while shading that triangle. */
-        if (textured)
-            for (size_t k = 0; k < ns; k++)
-                if (T->hit[k])
-                    for (int l = 0; l < 4; l++)
-                        if (T->qok[k * 4 + l])
-                            render_tex_st(S->mesh, S->tex, T->prim[k], T->qp + k * 12 + l * 3,
-                                          T->qst + k * 8 + l * 2);
-        /* Helper-lane heights, one batch (gradients unused: scratch). */
-        if (!C->need_solid)
-            nh = 0;
-        bgt_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
-        for (size_t b = 0; b < nh; b++)
-            T->qh[T->bidx[b]] = T->bh[b];
     }
+    /* Texture coordinates of the four lanes: the affine extension of the
+     * centre sample's triangle, which is what a GPU interpolates for the
+     * lanes of a quad (covered or helper) while shading that triangle. */
+    if (G->textured)
+        for (size_t k = 0; k < G->ns; k++)
+            if (T->hit[k])
+                for (int l = 0; l < 4; l++)
+                    if (T->qok[k * 4 + l])
+                        render_tex_st(S->mesh, S->tex, T->prim[k], T->qp + k * 12 + l * 3,
+                                      T->qst + k * 8 + l * 2);
+    /* Helper-lane heights, one batch (gradients unused: scratch). */
+    if (!C->need_solid)
+        nh = 0;
+    bgt_height_gradient(&C->analytic, T->bx, T->by, T->bz, nh, T->bh, T->box, T->boy, T->boz);
+    for (size_t b = 0; b < nh; b++)
+        T->qh[T->bidx[b]] = T->bh[b];
+}
 
-    /* 4. The methods. */
+/* 4, the batch methods: surfgrad-central, additive and surfgrad-footprint,
+ * one library batch per tile. surfgrad-footprint (without a VDB height) takes
+ * the sample's footprint on the surface from its ray differential: the angle
+ * between neighbouring samples times the hit distance, stretched by 1/cos of
+ * the view angle (the long axis of the footprint ellipse, so no octave aliases
+ * along it; capped at 64x at grazing angles). */
+static void method_batch(run_ctx *C, tile_buf *T, const tile_geom *G, render_method M, float *out)
+{
+    const render_scene *S = C->job->scene;
+    size_t nb = gather_hits(T, G->ns);
+    if (M == RENDER_SURFGRAD_FOOTPRINT && !C->analytic.grid_path) {
+        const float ang = 2.0f * S->tan_half / (float)G->SH;
+        for (size_t b = 0; b < nb; b++) {
+            size_t k = (size_t)T->bidx[b];
+            const float *p = T->p + k * 3, *n = T->n + k * 3, *d = T->dir + k * 3;
+            float w[3] = {p[0] - S->eye[0], p[1] - S->eye[1], p[2] - S->eye[2]};
+            float c = fabsf(bg_f3_dot(d, n));
+            T->bh[b] = sqrtf(bg_f3_dot(w, w)) * ang / (c > 1.0f / 64 ? c : 1.0f / 64);
+        }
+        bg_perturb_height_footprint_batch(&C->analytic.h, BG_PERTURB_SURFGRAD, T->bh, T->bx, T->by,
+                                          T->bz, T->bnx, T->bny, T->bnz, nb, NULL, T->box, T->boy,
+                                          T->boz);
+    } else {
+        bgt_height_perturb(M == RENDER_SURFGRAD_CENTRAL ? &C->central : &C->analytic,
+                           M == RENDER_ADDITIVE ? BG_PERTURB_ADDITIVE : BG_PERTURB_SURFGRAD, T->bx,
+                           T->by, T->bz, T->bnx, T->bny, T->bnz, nb, T->bh, T->box, T->boy, T->boz);
+    }
+    scatter_normals(T, nb, out);
+}
+
+/* 4, the quad methods of a textured mesh: Listing 1 fed by Listing 2's taps
+ * of the height texture, and `detail` (Figure 4(f)): the texture's gradient
+ * (Listing 1 as eq. 3 on the screen chart) plus the turbulence detail, one
+ * resolve. */
+static void method_tex_quad(const render_scene *S, const tile_buf *T, render_method M, size_t k,
+                            int lane, float o[3])
+{
+    const float *n = T->n + k * 3;
+    float sS[3], sT[3], dB[2];
+    quad_listing2(S, T->prim[k], (const float(*)[3])(T->qp + k * 12),
+                  (const float(*)[2])(T->qst + k * 8), lane,
+                  M == RENDER_LISTING1_HEIGHTMAP_CENTRAL ? BG_DIFF_CENTRAL : BG_DIFF_FORWARD, sS,
+                  sT, dB);
+    if (M != RENDER_DETAIL) {
+        put3(bg_listing1_normal(v3(n), v3(sS), v3(sT), dB[0], dB[1]), o);
+        return;
+    }
+    bg_vec3 g[2] = {bg_surfgrad_from_screen_derivs(v3(n), v3(sS), v3(sT), dB[0], dB[1]),
+                    v3(T->gd + k * 3)};
+    put3(bg_resolve_normal(v3(n), g, NULL, 2), o);
+}
+
+/* 4, the per-sample methods at hit sample k (lane: its place in its quad). */
+static void method_sample(const render_scene *S, const tile_buf *T, render_method M, size_t k,
+                          float o[3])
+{
+    const int ts = T->ts;
+    const float *n = T->n + k * 3;
+    int i = (int)(k % (size_t)ts), j = (int)(k / (size_t)ts);
+    int lane = (i & 1) | ((j & 1) << 1);
+    int quad_ok = T->qok[k * 4] & T->qok[k * 4 + 1] & T->qok[k * 4 + 2] & T->qok[k * 4 + 3];
+    switch (M) {
+    case RENDER_SURFGRAD:
+        memcpy(o, T->ref + k * 3, 3 * sizeof(float));
+        break;
+    case RENDER_LISTING1:
+    case RENDER_LISTING1_COARSE:
+        if (quad_ok)
+            render_listing1((const float(*)[3])(T->qp + k * 12), T->qh + k * 4, lane,
+                            M == RENDER_LISTING1, n, o);
+        else
+            memcpy(o, n, 3 * sizeof(float));
+        break;
+    case RENDER_SURFGRAD_HEIGHTMAP: {
+        bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, n);
+        put3(bg_resolve_normal(v3(n), &g, NULL, 1), o);
+        break;
+    }
+    case RENDER_NORMALMAP:
+        put3(tex_normalmap(S, T->prim[k], T->bc + k * 2, T->st + k * 2, n), o);
+        break;
+    case RENDER_LISTING1_HEIGHTMAP:
+    case RENDER_LISTING1_HEIGHTMAP_CENTRAL:
+    case RENDER_DETAIL:
+        if (quad_ok)
+            method_tex_quad(S, T, M, k, lane, o);
+        else
+            memcpy(o, n, 3 * sizeof(float));
+        break;
+    case RENDER_FLAT: {
+        float tau[4][3];
+        const float *qp = T->qp + k * 12, *qn = T->qn + k * 12;
+        for (int l = 0; l < 4; l++)
+            for (int a = 0; a < 3; a++)
+                tau[l][a] = qp[l * 3 + a] + T->qh[k * 4 + l] * qn[l * 3 + a];
+        if (quad_ok)
+            flat_normal((const float(*)[3])tau, (const float(*)[3])qp, lane, T->nf + k * 3, o);
+        else
+            memcpy(o, T->nf + k * 3, 3 * sizeof(float));
+        break;
+    }
+    default: /* RENDER_NONE */
+        memcpy(o, n, 3 * sizeof(float));
+        break;
+    }
+}
+
+/* 4. The methods, each into its slice of T->out. */
+static void tile_methods(run_ctx *C, tile_buf *T, const tile_geom *G)
+{
+    const render_job *J = C->job;
     for (int mi = 0; mi < J->nmethods; mi++) {
         render_method M = J->methods[mi];
-        float *out = T->out + (size_t)mi * ns * 3;
-        if (M == RENDER_SURFGRAD_FOOTPRINT && !C->analytic.grid_path) {
-            /* The sample's footprint on the surface from its ray differential: the
-             * angle between neighbouring samples times the hit distance, stretched
-             * by 1/cos of the view angle (the long axis of the footprint ellipse,
-             * so no octave aliases along it; capped at 64x at grazing angles). */
-            const float ang = 2.0f * S->tan_half / (float)SH;
-            nb = 0;
-            for (size_t k = 0; k < ns; k++)
-                if (T->hit[k]) {
-                    const float *p = T->p + k * 3, *n = T->n + k * 3, *d = T->dir + k * 3;
-                    float w[3] = {p[0] - S->eye[0], p[1] - S->eye[1], p[2] - S->eye[2]};
-                    float c = fabsf(bg_f3_dot(d, n));
-                    T->bh[nb] = sqrtf(bg_f3_dot(w, w)) * ang / (c > 1.0f / 64 ? c : 1.0f / 64);
-                    T->bx[nb] = p[0], T->by[nb] = p[1], T->bz[nb] = p[2];
-                    T->bnx[nb] = n[0], T->bny[nb] = n[1], T->bnz[nb] = n[2];
-                    T->bidx[nb++] = (int)k;
-                }
-            bg_perturb_height_footprint_batch(&C->analytic.h, BG_PERTURB_SURFGRAD, T->bh, T->bx,
-                                              T->by, T->bz, T->bnx, T->bny, T->bnz, nb, NULL,
-                                              T->box, T->boy, T->boz);
-            for (size_t b = 0; b < nb; b++) {
-                size_t k = (size_t)T->bidx[b];
-                out[k * 3] = T->box[b], out[k * 3 + 1] = T->boy[b], out[k * 3 + 2] = T->boz[b];
-            }
-            continue;
-        }
+        float *out = T->out + (size_t)mi * G->ns * 3;
         if (M == RENDER_SURFGRAD_CENTRAL || M == RENDER_ADDITIVE || M == RENDER_SURFGRAD_FOOTPRINT) {
-            nb = 0;
-            for (size_t k = 0; k < ns; k++)
-                if (T->hit[k]) {
-                    T->bx[nb] = T->p[k * 3], T->by[nb] = T->p[k * 3 + 1], T->bz[nb] = T->p[k * 3 + 2];
-                    T->bnx[nb] = T->n[k * 3], T->bny[nb] = T->n[k * 3 + 1];
-                    T->bnz[nb] = T->n[k * 3 + 2];
-                    T->bidx[nb++] = (int)k;
-                }
-            bgt_height_perturb(M == RENDER_SURFGRAD_CENTRAL ? &C->central : &C->analytic,
-                               M == RENDER_ADDITIVE ? BG_PERTURB_ADDITIVE : BG_PERTURB_SURFGRAD,
-                               T->bx, T->by, T->bz, T->bnx, T->bny, T->bnz, nb, T->bh, T->box,
-                               T->boy, T->boz);
-            for (size_t b = 0; b < nb; b++) {
-                size_t k = (size_t)T->bidx[b];
-                out[k * 3] = T->box[b], out[k * 3 + 1] = T->boy[b], out[k * 3 + 2] = T->boz[b];
-            }
+            method_batch(C, T, G, M, out);
             continue;
         }
-        for (size_t k = 0; k < ns; k++) {
-            if (!T->hit[k])
-                continue;
-            float *o = out + k * 3;
-            const float *n = T->n + k * 3;
-            int i = (int)(k % (size_t)ts), j = (int)(k / (size_t)ts);
-            int lane = (i & 1) | ((j & 1) << 1);
-            int quad_ok = T->qok[k * 4] & T->qok[k * 4 + 1] & T->qok[k * 4 + 2] & T->qok[k * 4 + 3];
-            switch (M) {
-            case RENDER_NONE:
-                memcpy(o, n, 3 * sizeof(float));
-                break;
-            case RENDER_SURFGRAD:
-                memcpy(o, T->ref + k * 3, 3 * sizeof(float));
-                break;
-            case RENDER_LISTING1:
-            case RENDER_LISTING1_COARSE:
-                if (quad_ok)
-                    render_listing1((const float(*)[3])(T->qp + k * 12), T->qh + k * 4, lane,
-                                    M == RENDER_LISTING1, n, o);
-                else
-                    memcpy(o, n, 3 * sizeof(float));
-                break;
-            case RENDER_SURFGRAD_HEIGHTMAP: {
-                bg_vec3 g = tex_surfgrad(S, T->prim[k], T->st + k * 2, n);
-                put3(bg_resolve_normal(v3(n), &g, NULL, 1), o);
-                break;
-            }
-            case RENDER_NORMALMAP:
-                put3(tex_normalmap(S, T->prim[k], T->bc + k * 2, T->st + k * 2, n), o);
-                break;
-            case RENDER_LISTING1_HEIGHTMAP:
-            case RENDER_LISTING1_HEIGHTMAP_CENTRAL:
-            case RENDER_DETAIL: {
-                if (!quad_ok) {
-                    memcpy(o, n, 3 * sizeof(float));
-                    break;
-                }
-                float sS[3], sT[3], dB[2];
-                quad_listing2(S, T->prim[k], (const float(*)[3])(T->qp + k * 12),
-                              (const float(*)[2])(T->qst + k * 8), lane,
-                              M == RENDER_LISTING1_HEIGHTMAP_CENTRAL ? BG_DIFF_CENTRAL : BG_DIFF_FORWARD,
-                              sS, sT, dB);
-                if (M != RENDER_DETAIL) {
-                    put3(bg_listing1_normal(v3(n), v3(sS), v3(sT), dB[0], dB[1]), o);
-                    break;
-                }
-                /* Figure 4(f): the texture's gradient (Listing 1 as eq. 3 on the
-                 * screen chart) plus the turbulence detail, one resolve. */
-                bg_vec3 g[2] = {bg_surfgrad_from_screen_derivs(v3(n), v3(sS), v3(sT), dB[0], dB[1]),
-                                v3(T->gd + k * 3)};
-                put3(bg_resolve_normal(v3(n), g, NULL, 2), o);
-                break;
-            }
-            case RENDER_FLAT: {
-                float tau[4][3];
-                const float *qp = T->qp + k * 12, *qn = T->qn + k * 12;
-                for (int l = 0; l < 4; l++)
-                    for (int a = 0; a < 3; a++)
-                        tau[l][a] = qp[l * 3 + a] + T->qh[k * 4 + l] * qn[l * 3 + a];
-                if (quad_ok)
-                    flat_normal((const float(*)[3])tau, (const float(*)[3])qp, lane,
-                                T->nf + k * 3, o);
-                else
-                    memcpy(o, T->nf + k * 3, 3 * sizeof(float));
-                break;
-            }
-            default:
-                memcpy(o, n, 3 * sizeof(float));
-                break;
-            }
-        }
+        for (size_t k = 0; k < G->ns; k++)
+            if (T->hit[k])
+                method_sample(J->scene, T, M, k, out + k * 3);
     }
+}
 
-    /* 5. Shade, resolve the s x s samples of each pixel, record the errors. */
-    const int px0 = tx * TILE, py0 = ty * TILE;
+/* 5, one sample k of method mi at image sample g: its shaded colour, and its
+ * angle error against the reference into the job's error and inward maps.
+ * Returns the error (NaN for a miss, which gets the background). */
+static float shade_sample(const run_ctx *C, const tile_buf *T, int mi, const float *out,
+                          int use_albedo, size_t k, size_t g, float c[3])
+{
+    render_job *J = C->job;
+    const render_scene *S = J->scene;
+    if (!T->hit[k]) {
+        memcpy(c, background, 3 * sizeof(float));
+        J->err[mi][g] = NAN;
+        J->inward[mi][g] = 0;
+        return NAN;
+    }
+    const float *o = out + k * 3;
+    float alb[3];
+    const bg_height_texture *A =
+        use_albedo ? render_tex_material(S->tex, S->mesh, T->prim[k])->albedo : NULL;
+    if (A && A[0].texels) {
+        bg_vec2 q = {T->st[k * 2], T->st[k * 2 + 1]};
+        for (int a = 0; a < 3; a++)
+            alb[a] = bg_height_texture_sample(&A[a], q);
+    } else {
+        memcpy(alb, grey_albedo, sizeof alb);
+    }
+    shade(S, T->p + k * 3, T->dir + k * 3, o, alb, c);
+    bg_vec3 a = {o[0], o[1], o[2]}, b = {T->ref[k * 3], T->ref[k * 3 + 1], T->ref[k * 3 + 2]};
+    float e = (float)bg_angle_deg(a, b);
+    if (!(e == e))
+        e = 180.0f; /* a zero normal counts as a total failure */
+    J->err[mi][g] = e;
+    J->inward[mi][g] = bg_f3_dot(o, T->n + k * 3) <= 0;
+    return e;
+}
+
+/* 5. Shade, resolve the s x s samples of each pixel, record the errors. */
+static void tile_resolve(const run_ctx *C, const tile_buf *T, const tile_geom *G, int tx, int ty)
+{
+    render_job *J = C->job;
+    const int ss = G->ss, px0 = tx * TILE, py0 = ty * TILE;
     const float inv = 1.0f / (float)(ss * ss);
     for (int mi = 0; mi < J->nmethods; mi++) {
-        const float *out = T->out + (size_t)mi * ns * 3;
-        const int use_albedo = textured && (J->albedo_mask >> mi & 1u);
+        const float *out = T->out + (size_t)mi * G->ns * 3;
+        const int use_albedo = G->textured && (J->albedo_mask >> mi & 1u);
         for (int py = py0; py < py0 + TILE && py < J->height_px; py++)
             for (int px = px0; px < px0 + TILE && px < J->width; px++) {
                 float acc[3] = {0, 0, 0}, esum = 0;
@@ -660,37 +739,12 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 for (int sj = 0; sj < ss; sj++)
                     for (int si = 0; si < ss; si++) {
                         int li = (px - px0) * ss + si, lj = (py - py0) * ss + sj;
-                        size_t k = (size_t)lj * ts + li;
-                        size_t g = (size_t)(py * ss + sj) * (size_t)SW + (size_t)(px * ss + si);
+                        size_t k = (size_t)lj * G->ts + li;
+                        size_t g = (size_t)(py * ss + sj) * (size_t)G->SW + (size_t)(px * ss + si);
                         float c[3];
-                        if (T->hit[k]) {
-                            const float *o = out + k * 3;
-                            float alb[3];
-                            const bg_height_texture *A =
-                                use_albedo ? render_tex_material(S->tex, S->mesh, T->prim[k])->albedo
-                                           : NULL;
-                            if (A && A[0].texels) {
-                                bg_vec2 q = {T->st[k * 2], T->st[k * 2 + 1]};
-                                for (int a = 0; a < 3; a++)
-                                    alb[a] = bg_height_texture_sample(&A[a], q);
-                            } else {
-                                memcpy(alb, grey_albedo, sizeof alb);
-                            }
-                            shade(S, T->p + k * 3, T->dir + k * 3, o, alb, c);
-                            bg_vec3 a = {o[0], o[1], o[2]}, b = {T->ref[k * 3], T->ref[k * 3 + 1],
-                                                                 T->ref[k * 3 + 2]};
-                            float e = (float)bg_angle_deg(a, b);
-                            if (!(e == e))
-                                e = 180.0f; /* a zero normal counts as a total failure */
-                            J->err[mi][g] = e;
-                            J->inward[mi][g] = bg_f3_dot(o, T->n + k * 3) <= 0;
-                            esum += e;
-                            ecount++;
-                        } else {
-                            memcpy(c, background, sizeof c);
-                            J->err[mi][g] = NAN;
-                            J->inward[mi][g] = 0;
-                        }
+                        float e = shade_sample(C, T, mi, out, use_albedo, k, g, c);
+                        if (T->hit[k])
+                            esum += e, ecount++;
                         acc[0] += c[0], acc[1] += c[1], acc[2] += c[2];
                     }
                 float *dst = J->rgb[mi] + ((size_t)py * J->width + px) * 3;
@@ -698,6 +752,30 @@ static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
                 J->heat[mi][(size_t)py * J->width + px] = ecount ? esum / (float)ecount : NAN;
             }
     }
+}
+
+/* One tile: its G-buffer (steps 1-3), the methods (4), the pixels (5). */
+static void tile_render(run_ctx *C, tile_buf *T, int tx, int ty)
+{
+    const render_job *J = C->job;
+    const render_scene *S = J->scene;
+    tile_geom G;
+    G.ts = T->ts, G.ss = J->ss, G.SW = J->width * J->ss, G.SH = J->height_px * J->ss;
+    G.sx0 = tx * TILE * J->ss, G.sy0 = ty * TILE * J->ss;
+    G.ns = (size_t)G.ts * G.ts;
+    G.aspect = (float)J->width / (float)J->height_px;
+    G.textured = S->tex && S->mesh && S->mesh->uv;
+
+    tile_rays(S, T, &G);
+    tile_solid(C, T, &G);
+    if (G.textured)
+        tile_texcoords(C, T, &G);
+    if (C->need_detail && G.textured)
+        tile_detail(C, T, &G);
+    if (C->need_quads)
+        tile_quads(C, T, &G);
+    tile_methods(C, T, &G);
+    tile_resolve(C, T, &G, tx, ty);
 }
 
 static void tile_worker(void *ctx, size_t begin, size_t end, int worker)
