@@ -424,6 +424,214 @@ static void reduce_stats(const chunk_stats *stats, size_t nchunks, bgt_mesh_resu
     r->max_compare = tot.max_cmp;
 }
 
+/* Load IN, and refuse a mesh that lacks what the bake needs (UVs, or the
+ * file's tangents with --tangents file). On failure m holds nothing. */
+static bg_status load_mesh(const bgt_mesh_opts *o, bg_mesh *m, bgt_err *e)
+{
+    char err[512];
+    bg_status st = bg_mesh_load_ex(o->input, o->join | (o->recompute_normals ? BG_MESH_DROP_NORMALS : 0u),
+                                   m, err, sizeof err);
+    if (st != BG_OK)
+        /* Missing, unreadable or malformed input is the user's to fix (2);
+         * only running out of memory is a runtime failure. */
+        return bgt_fail(e,
+                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
+                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
+                                                   : BG_ERR_INVALID_ARGUMENT,
+                        "%s", err);
+    if (o->bake_path && !m->u) {
+        bg_mesh_free(m);
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "'%s' has no texture coordinates (UV set 0): --bake-normal-map needs "
+                        "them; without the bake, vertex mode works on this mesh",
+                        o->input);
+    }
+    if (o->bake_path && o->bake.space == MESH_BAKE_TANGENT &&
+        o->bake.tangents == MESH_TANGENTS_FILE && !m->tx) {
+        bg_mesh_free(m);
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "'%s' has no tangents (with normals and UVs in every mesh): --tangents "
+                        "file needs them; --tangents mikktspace computes them",
+                        o->input);
+    }
+    return BG_OK;
+}
+
+/* The triangles the perturbation cannot use and the non-finite positions. */
+static void count_defects(const bg_mesh *m, bgt_mesh_result *r)
+{
+    for (size_t t = 0; t < m->triangle_count; t++)
+        r->unusable_triangles += (size_t)!mesh_triangle_usable(m, t);
+    for (size_t i = 0; i < m->vertex_count; i++)
+        r->nonfinite_positions +=
+            (size_t)!(isfinite(m->px[i]) && isfinite(m->py[i]) && isfinite(m->pz[i]));
+}
+
+/* The normal map of --bake-normal-map, through map_sink into mo's temporaries. */
+static bg_status bake_map(const bgt_mesh_opts *o, const bg_mesh *m, const vertex_job *job,
+                          int threads, map_out *mo, bgt_mesh_result *r, bgt_err *e)
+{
+    mesh_bake_opts bake = o->bake;
+    bake.method = job->method;
+    bake.threads = threads;
+    bake.progress = o->progress;
+    bake.udim = mo->udim = strstr(o->bake_path, MESH_UDIM_TOKEN) != NULL;
+    mo->path = o->bake_path;
+    mo->format = o->bake_format; /* the shim takes "exr", ".exr" or "EXR" alike */
+    mo->type = (bg_pixel_type)o->bake_depth;
+    if (o->bake_depth < 0)
+        mo->type = map_is_exr(o->bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
+    return mesh_bake(m, job->ox, job->oy, job->oz, job->h, &bake, map_sink, mo, &r->bake, e);
+}
+
+/* OUT of bgt_mesh_run while it is written: a safe temporary (PLY, glTF), an
+ * assimp-exported temporary (OBJ), or a device written in place. */
+typedef struct mesh_out {
+    const char *path;
+    mesh_out_format fmt;
+    bgt_safe_file of;
+    FILE *devout;
+    char *obj_tmp;
+    float *gltf_tan;
+} mesh_out;
+
+static void out_free(mesh_out *w)
+{
+    if (w->devout)
+        fclose(w->devout);
+    if (w->obj_tmp) {
+        bgt_safe_discard_path(w->obj_tmp);
+        free(w->obj_tmp);
+    }
+    free(w->gltf_tan);
+    if (w->of.fp)
+        bgt_safe_abort(&w->of);
+    memset(w, 0, sizeof *w);
+}
+
+/* Open OUT; for OBJ, assimp's exporter wants a file name, so the whole file
+ * (bumped normals, positions, UVs) is exported to a temporary next to OUT
+ * here. /dev/null, a FIFO, a terminal: there is nothing to replace
+ * atomically, and renaming a temporary file over the device node would
+ * destroy it, so a device is written in place. */
+static bg_status out_open(mesh_out *w, const bg_mesh *m, const vertex_job *job, bgt_err *e)
+{
+    if (w->fmt == MESH_OUT_OBJ) {
+        bg_mesh view = *m;
+        view.nx = job->nx, view.ny = job->ny, view.nz = job->nz;
+        if (!(w->obj_tmp = bgt_safe_temp_path(w->path, e)))
+            return BG_ERR_IO;
+        char err[512];
+        bg_status xs = bg_mesh_export(w->obj_tmp, "objnomtl", &view, err, sizeof err);
+        if (xs != BG_OK)
+            return bgt_fail(e, xs == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY : BG_ERR_IO, "%s",
+                            err);
+        return BG_OK;
+    }
+    if (is_device(w->path)) {
+        if (!(w->devout = fopen(w->path, "wb")))
+            return bgt_fail(e, BG_ERR_IO, "cannot open output %s: %s", w->path, strerror(errno));
+        return BG_OK;
+    }
+    return bgt_safe_open(&w->of, w->path, e);
+}
+
+/* glTF: TANGENT is the mikkTSpace frame of the bumped normals, which is what a
+ * glTF viewer computes from this file when it ignores the attribute, so both
+ * ways agree. */
+static bg_status out_gltf(mesh_out *w, const bg_mesh *m, const vertex_job *job, bgt_err *e)
+{
+    size_t nv = m->vertex_count, nt = m->triangle_count;
+    if (m->u) {
+        w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
+        bgt_mikk_mesh mm = {nv, nt, m->indices, m->px, m->py, m->pz,
+                            job->nx, job->ny, job->nz, m->u, m->v};
+        if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
+    }
+    char gen[96];
+    snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
+    mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
+                      .px = m->px, .py = m->py, .pz = m->pz,
+                      .nx = job->nx, .ny = job->ny, .nz = job->nz,
+                      .u = m->u, .v = m->v, .corner_tangents = w->gltf_tan,
+                      .indices = m->indices, .generator = gen};
+    return mesh_gltf_write(w->devout ? w->devout : w->of.fp, w->fmt == MESH_OUT_GLB, &g, e);
+}
+
+/* PLY: the per-vertex table of docs/MESH.md, the run's settings in a comment. */
+static bg_status out_ply(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
+                         const vertex_job *job, int file_normals, bgt_err *e)
+{
+    char comment[400];
+    const bg_height *hh = &job->h->h;
+    snprintf(comment, sizeof comment,
+             "bumpgrad %s mesh method=%s function=%s octaves=%d lacunarity=%g gain=%g "
+             "amplitude=%g frequency=%g gradient=%s normals=%s",
+             bg_version_string(), method_name(job->method), function_name(hh->fractal.function),
+             hh->fractal.octaves, (double)hh->fractal.lacunarity, (double)hh->fractal.gain,
+             (double)hh->amplitude, (double)hh->frequency,
+             hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic",
+             file_normals ? "file" : "angle-weighted");
+    mesh_ply_out d = {.vertex_count = m->vertex_count, .triangle_count = m->triangle_count,
+                      .px = m->px, .py = m->py, .pz = m->pz,
+                      .nx = job->nx, .ny = job->ny, .nz = job->nz,
+                      .ox = job->ox, .oy = job->oy, .oz = job->oz, .height = job->height,
+                      .compare = job->compare, .u = m->u, .v = m->v, .indices = m->indices,
+                      .comment = comment, .ascii = o->ascii};
+    if (mesh_ply_write(w->devout ? w->devout : w->of.fp, &d))
+        return bgt_fail(e, BG_ERR_IO, "writing %s failed", w->path);
+    return BG_OK;
+}
+
+/* Put OUT in place: close the device, or rename the temporary over OUT. */
+static bg_status out_commit(mesh_out *w, bgt_err *e)
+{
+    bg_status st = BG_OK;
+    if (w->devout) {
+        int bad = fclose(w->devout) != 0;
+        w->devout = NULL;
+        if (bad)
+            st = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s", w->path, strerror(errno));
+    } else if (w->obj_tmp) {
+        st = bgt_safe_commit_path(w->obj_tmp, w->path, e);
+        free(w->obj_tmp);
+        w->obj_tmp = NULL;
+    } else {
+        st = bgt_safe_commit(&w->of, e);
+    }
+    return st;
+}
+
+/* OUT written to its temporary (out_commit puts it in place). */
+static bg_status out_write(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
+                           const vertex_job *job, int file_normals, bgt_err *e)
+{
+    w->path = o->output;
+    w->fmt = mesh_out_format_of(o->output);
+    bg_status st = out_open(w, m, job, e);
+    if (st != BG_OK)
+        return st;
+    if (w->fmt == MESH_OUT_GLB || w->fmt == MESH_OUT_GLTF)
+        return out_gltf(w, m, job, e);
+    if (w->fmt == MESH_OUT_PLY)
+        return out_ply(w, o, m, job, file_normals, e);
+    return BG_OK;
+}
+
+/* The per-vertex perturbation over all cores, then the stats in chunk order. */
+static bg_status perturb_vertices(vertex_job *job, size_t nv, int threads, bgt_mesh_result *r,
+                                  bgt_err *e)
+{
+    const size_t nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
+    atomic_init(&job->oom, 0);
+    bgt_parallel_for(nv, MESH_CHUNK, threads, vertex_chunk, job);
+    if (atomic_load(&job->oom))
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while perturbing");
+    reduce_stats(job->stats, nchunks, r);
+    return BG_OK;
+}
+
 bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
 {
     bg_status st = bgt_mesh_check(o, e);
@@ -434,7 +642,6 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     memset(r, 0, sizeof *r);
     if ((st = bgt_io_ready(e)) != BG_OK)
         return st;
-    const char *in_path = o->input, *out_path = o->output, *bake_path = o->bake_path;
     bgt_height h = *o->height;
     h.grid = NULL;
     if ((st = bgt_height_open(&h, e)) != BG_OK)
@@ -444,53 +651,21 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     r->threads = threads;
 
     bg_mesh m;
-    char err[512];
     double t0 = now_seconds();
-    st = bg_mesh_load_ex(in_path, o->join | (o->recompute_normals ? BG_MESH_DROP_NORMALS : 0u), &m,
-                         err, sizeof err);
-    if (st != BG_OK) {
+    if ((st = load_mesh(o, &m, e)) != BG_OK) {
         bgt_height_close(&h);
-        /* Missing, unreadable or malformed input is the user's to fix (2);
-         * only running out of memory is a runtime failure. */
-        return bgt_fail(e,
-                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
-                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
-                                                   : BG_ERR_INVALID_ARGUMENT,
-                        "%s", err);
+        return st;
     }
-    if (bake_path && !m.u) {
-        bg_mesh_free(&m);
-        bgt_height_close(&h);
-        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
-                        "'%s' has no texture coordinates (UV set 0): --bake-normal-map needs "
-                        "them; without the bake, vertex mode works on this mesh",
-                        in_path);
-    }
-    if (bake_path && o->bake.space == MESH_BAKE_TANGENT && o->bake.tangents == MESH_TANGENTS_FILE &&
-        !m.tx) {
-        bg_mesh_free(&m);
-        bgt_height_close(&h);
-        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
-                        "'%s' has no tangents (with normals and UVs in every mesh): --tangents "
-                        "file needs them; --tangents mikktspace computes them",
-                        in_path);
-    }
-
-    size_t nv = m.vertex_count, nt = m.triangle_count;
-    size_t nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
+    size_t nv = m.vertex_count, nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
     int file_normals = m.nx != NULL;
-    float *ox = NULL, *oy = NULL, *oz = NULL;
-    float *outs = NULL;
+    float *ox = NULL, *oy = NULL, *oz = NULL, *outs = NULL;
     chunk_stats *stats = NULL;
     map_out mo;
     memset(&mo, 0, sizeof mo);
-    bgt_safe_file of = {NULL, NULL, NULL};
-    FILE *devout = NULL;
-    char *obj_tmp = NULL;
-    float *gltf_tan = NULL;
-    st = BG_OK;
+    mesh_out w;
+    memset(&w, 0, sizeof w);
     r->vertex_count = nv;
-    r->triangle_count = nt;
+    r->triangle_count = m.triangle_count;
     r->mesh_count = m.mesh_count;
     r->dropped_primitives = m.dropped_primitives;
     r->file_normals = file_normals;
@@ -502,11 +677,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         goto done;
     }
     r->no_normal = no_normal;
-    for (size_t t = 0; t < nt; t++)
-        r->unusable_triangles += (size_t)!mesh_triangle_usable(&m, t);
-    for (size_t i = 0; i < nv; i++)
-        r->nonfinite_positions +=
-            (size_t)!(isfinite(m.px[i]) && isfinite(m.py[i]) && isfinite(m.pz[i]));
+    count_defects(&m, r);
 
     /* nx ny nz height [compare]: the only per-vertex arrays besides the mesh. */
     outs = malloc(nv * (size_t)(o->compare ? 5 : 4) * sizeof *outs);
@@ -521,144 +692,35 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
                       .ox = ox, .oy = oy, .oz = oz,
                       .nx = outs, .ny = outs + nv, .nz = outs + 2 * nv, .height = outs + 3 * nv,
                       .compare = o->compare ? outs + 4 * nv : NULL, .stats = stats};
-    atomic_init(&job.oom, 0);
     double t_normals = now_seconds();
-    bgt_parallel_for(nv, MESH_CHUNK, threads, vertex_chunk, &job);
+    st = perturb_vertices(&job, nv, threads, r, e);
     double t_perturb = now_seconds();
-    if (atomic_load(&job.oom)) {
-        st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while perturbing");
+    if (st != BG_OK)
         goto done;
-    }
-    reduce_stats(stats, nchunks, r);
 
     double t_bake0 = now_seconds();
-    if (bake_path) {
-        mesh_bake_opts bake = o->bake;
-        bake.method = method;
-        bake.threads = threads;
-        bake.progress = o->progress;
-        bake.udim = mo.udim = strstr(bake_path, MESH_UDIM_TOKEN) != NULL;
-        mo.path = bake_path;
-        mo.format = o->bake_format; /* the shim takes "exr", ".exr" or "EXR" alike */
-        mo.type = (bg_pixel_type)o->bake_depth;
-        if (o->bake_depth < 0)
-            mo.type = map_is_exr(bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
-        if ((st = mesh_bake(&m, ox, oy, oz, &h, &bake, map_sink, &mo, &r->bake, e)) != BG_OK)
-            goto done;
-    }
+    if (o->bake_path && (st = bake_map(o, &m, &job, threads, &mo, r, e)) != BG_OK)
+        goto done;
     double t_bake1 = now_seconds();
 
-    /* The PLY goes to a temporary file first and is renamed only after the
-     * map is in place too, so a failing bake leaves the old OUT.ply alone. */
-    if (out_path) {
-        char comment[400];
-        const bg_height *hh = &h.h;
-        snprintf(comment, sizeof comment,
-                 "bumpgrad %s mesh method=%s function=%s octaves=%d lacunarity=%g gain=%g "
-                 "amplitude=%g frequency=%g gradient=%s normals=%s",
-                 bg_version_string(), method_name(method), function_name(hh->fractal.function),
-                 hh->fractal.octaves, (double)hh->fractal.lacunarity, (double)hh->fractal.gain,
-                 (double)hh->amplitude, (double)hh->frequency,
-                 hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic",
-                 file_normals ? "file" : "angle-weighted");
-        mesh_ply_out d = {.vertex_count = nv, .triangle_count = nt,
-                          .px = m.px, .py = m.py, .pz = m.pz,
-                          .nx = job.nx, .ny = job.ny, .nz = job.nz,
-                          .ox = ox, .oy = oy, .oz = oz, .height = job.height,
-                          .compare = job.compare, .u = m.u, .v = m.v, .indices = m.indices,
-                          .comment = comment, .ascii = o->ascii};
-        mesh_out_format fmt = mesh_out_format_of(out_path);
-        if (fmt == MESH_OUT_OBJ) {
-            /* assimp's exporter wants a file name: a temporary next to OUT,
-             * renamed below after the map (bumped normals, positions, UVs) */
-            bg_mesh view = m;
-            view.nx = job.nx, view.ny = job.ny, view.nz = job.nz;
-            if (!(obj_tmp = bgt_safe_temp_path(out_path, e))) {
-                st = BG_ERR_IO;
-                goto done;
-            }
-            bg_status xs = bg_mesh_export(obj_tmp, "objnomtl", &view, err, sizeof err);
-            if (xs != BG_OK) {
-                st = bgt_fail(e, xs == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY : BG_ERR_IO,
-                              "%s", err);
-                goto done;
-            }
-        } else if (is_device(out_path)) {
-            /* /dev/null, a FIFO, a terminal: there is nothing to replace
-             * atomically, and renaming a temporary file over the device
-             * node would destroy it. */
-            if (!(devout = fopen(out_path, "wb"))) {
-                st = bgt_fail(e, BG_ERR_IO, "cannot open output %s: %s", out_path,
-                              strerror(errno));
-                goto done;
-            }
-        } else if ((st = bgt_safe_open(&of, out_path, e)) != BG_OK) {
-            goto done;
-        }
-        if (fmt == MESH_OUT_GLB || fmt == MESH_OUT_GLTF) {
-            /* TANGENT: the mikkTSpace frame of the bumped normals, which is
-             * what a glTF viewer computes from this file when it ignores the
-             * attribute, so both ways agree */
-            if (m.u) {
-                gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *gltf_tan);
-                bgt_mikk_mesh mm = {nv, nt, m.indices, m.px, m.py, m.pz,
-                                    job.nx, job.ny, job.nz, m.u, m.v};
-                if (!gltf_tan || bgt_mikk_tangents(&mm, gltf_tan, NULL) != BG_OK) {
-                    st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
-                    goto done;
-                }
-            }
-            char gen[96];
-            snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
-            mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
-                              .px = m.px, .py = m.py, .pz = m.pz,
-                              .nx = job.nx, .ny = job.ny, .nz = job.nz,
-                              .u = m.u, .v = m.v, .corner_tangents = gltf_tan,
-                              .indices = m.indices, .generator = gen};
-            if ((st = mesh_gltf_write(devout ? devout : of.fp, fmt == MESH_OUT_GLB, &g, e)) !=
-                BG_OK)
-                goto done;
-        } else if (fmt == MESH_OUT_PLY && mesh_ply_write(devout ? devout : of.fp, &d)) {
-            st = bgt_fail(e, BG_ERR_IO, "writing %s failed", out_path);
-            goto done;
-        }
-    }
-    if (bake_path && (st = map_commit(&mo, e)) != BG_OK)
+    /* OUT goes to a temporary file first and is renamed only after the map
+     * is in place too, so a failing bake leaves the old OUT alone. */
+    if (o->output && (st = out_write(&w, o, &m, &job, file_normals, e)) != BG_OK)
         goto done;
-    if (devout) {
-        int bad = fclose(devout) != 0;
-        devout = NULL;
-        if (bad) {
-            st = bgt_fail(e, BG_ERR_IO, "writing %s failed: %s", out_path, strerror(errno));
-            goto done;
-        }
-    } else if (obj_tmp) {
-        st = bgt_safe_commit_path(obj_tmp, out_path, e);
-        free(obj_tmp);
-        obj_tmp = NULL;
-        if (st != BG_OK)
-            goto done;
-    } else if (out_path && (st = bgt_safe_commit(&of, e)) != BG_OK) {
+    if (o->bake_path && (st = map_commit(&mo, e)) != BG_OK)
         goto done;
-    }
+    if (o->output && (st = out_commit(&w, e)) != BG_OK)
+        goto done;
 
     double t_end = now_seconds();
     r->t_load = t_load - t0;
     r->t_normals = t_normals - t_load;
     r->t_perturb = t_perturb - t_normals;
-    r->t_bake = bake_path ? t_bake1 - t_bake0 - mo.t_write : 0.0;
-    r->t_write = t_end - (bake_path ? t_bake1 : t_bake0) + mo.t_write;
+    r->t_bake = o->bake_path ? t_bake1 - t_bake0 - mo.t_write : 0.0;
+    r->t_write = t_end - (o->bake_path ? t_bake1 : t_bake0) + mo.t_write;
 
 done:
-    if (devout)
-        fclose(devout);
-    if (obj_tmp) {
-        bgt_safe_discard_path(obj_tmp);
-        free(obj_tmp);
-    }
-    free(gltf_tan);
-    if (of.fp)
-        bgt_safe_abort(&of);
+    out_free(&w);
     map_free(&mo);
     free(outs);
     free(stats);
