@@ -498,14 +498,14 @@ static bg_status write_image(const char *path, const char *format, const bg_imag
     return BG_OK;
 }
 
-bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
+/* The options render_image refuses before any work, and what render_run and
+ * the panel will allocate, checked against the one cap first: per method an
+ * RGB and a heat image, and per sample an error and an inward flag; the panel
+ * about (rows x methods) images. */
+static bg_status check_render(const render_opts *o, bg_pixel_type *type, int *srgb, bgt_err *e)
 {
-    bg_pixel_type type = BG_PIXEL_U8;
-    int srgb = 1;
     bg_status rc;
-    memset(r, 0, sizeof *r);
-    render_opts oo = *o_in, *o = &oo;
-    if ((rc = check_output(o->output, o->format, &type, &srgb, e)) != BG_OK)
+    if ((rc = check_output(o->output, o->format, type, srgb, e)) != BG_OK)
         return rc;
     for (int m = 0; m < o->nmethods; m++)
         if (render_method_textured(o->methods[m]) && !o->mesh_path)
@@ -516,36 +516,44 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--sweep does not apply to --preset fig4");
     if ((rc = bgt_io_ready(e)) != BG_OK)
         return rc;
-    {
-        /* What render_run and the panel will allocate, checked against the one
-         * cap first: per method an RGB and a heat image, and per sample an
-         * error and an inward flag; the panel about (rows x methods) images. */
-        const double px = (double)o->width * o->height, ns = px * o->ss * o->ss;
-        const double per_method = px * 4.0 * 4.0 + ns * 5.0;
-        const double panel = o->compare ? (o->closeup ? 3.0 : 2.0) * px * 12.0 * 1.3 : 0.0;
-        if ((rc = bgt_check_alloc(o->nmethods * (per_method + panel), "this render", e)) != BG_OK)
-            return rc;
-    }
+    const double px = (double)o->width * o->height, ns = px * o->ss * o->ss;
+    const double per_method = px * 4.0 * 4.0 + ns * 5.0;
+    const double panel = o->compare ? (o->closeup ? 3.0 : 2.0) * px * 12.0 * 1.3 : 0.0;
+    return bgt_check_alloc(o->nmethods * (per_method + panel), "this render", e);
+}
 
+/* What render_image holds while it runs (render_state_free frees it all). */
+typedef struct render_state {
     render_mesh mesh;
-    memset(&mesh, 0, sizeof mesh);
     render_textures tex;
-    memset(&tex, 0, sizeof tex);
-    render_embree *rtc = NULL;
+    render_embree *rtc;
     render_scene scene;
-    memset(&scene, 0, sizeof scene);
-    scene.shape = o->shape;
-    /* The tracer: Embree for a loaded mesh when built with it; the built-in
-     * isosurfaces keep their BVH unless --tracer embree (docs/FIGURES.md has
-     * the measurements and the agreement between the two). */
+} render_state;
+
+static void render_state_free(render_state *s)
+{
+    render_embree_free(s->rtc);
+    render_textures_free(&s->tex);
+    render_mesh_free(&s->mesh);
+}
+
+/* The geometry and its tracer: the --mesh file with its textures, or a
+ * built-in isosurface; Embree for a loaded mesh when built with it, while the
+ * built-in isosurfaces keep their BVH unless --tracer embree
+ * (docs/FIGURES.md has the measurements and the agreement between the two). */
+static bg_status load_scene(render_opts *o, render_state *s, render_result *r, bgt_err *e)
+{
+    bg_status rc;
+    s->scene.shape = o->shape;
     int use_embree = o->tracer == TRACER_EMBREE ||
                      (o->tracer == TRACER_AUTO && o->mesh_path && render_embree_available());
     double t0 = now_seconds();
     if (o->mesh_path) {
-        if ((rc = render_load_mesh(o, &mesh, &tex, r->textures, sizeof r->textures, e)) != BG_OK)
+        if ((rc = render_load_mesh(o, &s->mesh, &s->tex, r->textures, sizeof r->textures, e)) !=
+            BG_OK)
             return rc;
-        scene.mesh = &mesh;
-        scene.tex = &tex;
+        s->scene.mesh = &s->mesh;
+        s->scene.tex = &s->tex;
         if (o->preset == PRESET_FIG4)
             o->albedo_mask = 1u << 3;
         else
@@ -555,105 +563,164 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
     if (!o->mesh_path && o->shape != RENDER_SPHERE) {
         /* Timed with its BVH: build_s of the isosurface is marching tetrahedra + BVH. */
         double tb = now_seconds();
-        if (render_mesh_build(o->shape, o->grid, &mesh))
+        if (render_mesh_build(o->shape, o->grid, &s->mesh))
             return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "cannot build the %s mesh: out of memory",
                             render_shape_name(o->shape));
         r->load_seconds = now_seconds() - tb;
-        scene.mesh = &mesh;
+        s->scene.mesh = &s->mesh;
     }
-    if (scene.mesh && use_embree) {
-        if ((rc = render_embree_build(&mesh, o->threads, &rtc, &r->build_seconds, e)) != BG_OK) {
-            render_mesh_free(&mesh);
-            render_textures_free(&tex);
+    r->tracer = "analytic";
+    if (s->scene.mesh && use_embree) {
+        if ((rc = render_embree_build(&s->mesh, o->threads, &s->rtc, &r->build_seconds, e)) != BG_OK)
             return rc;
-        }
-        scene.embree = rtc;
+        s->scene.embree = s->rtc;
         r->tracer = "embree";
-    } else if (scene.mesh) {
+    } else if (s->scene.mesh) {
         if (o->mesh_path) {
             double tb = now_seconds();
-            if (render_mesh_bvh(&mesh) != BG_OK) {
-                render_textures_free(&tex);
+            if (render_mesh_bvh(&s->mesh) != BG_OK)
                 return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the BVH");
-            }
             r->build_seconds = now_seconds() - tb;
         }
         r->tracer = "bvh";
-    } else {
-        r->tracer = "analytic";
     }
+    r->triangles = s->scene.mesh ? s->mesh.ntri : 0;
+    return BG_OK;
+}
+
+/* The camera of --view (or the default view) at zoom, and the light. */
+static void set_camera(const render_opts *o, render_scene *scene, float zoom)
+{
     if (o->view_set)
-        render_scene_camera_dir(&scene, o->view, o->distance, o->zoom);
+        render_scene_camera_dir(scene, o->view, o->distance, zoom);
     else
-        render_scene_camera(&scene, o->distance, o->zoom);
-    memcpy(scene.light, o->light, sizeof scene.light);
-    if (o->mesh_path && !o->zoom_set) {
-        /* Automatic framing: the zoom at which the mesh's silhouette (its
-         * vertices' projections) fills 90% of the image's shorter half-extent. */
-        const float aspect = (float)o->width / (float)o->height;
-        float need = 0;
-        for (size_t i = 0; i < mesh.ntri * 3; i++) {
-            const float *p = mesh.pos + i * 3;
-            float w[3] = {p[0] - scene.eye[0], p[1] - scene.eye[1], p[2] - scene.eye[2]};
-            float z = bg_f3_dot(w, scene.fwd);
-            if (!(z > 1e-3f))
-                continue;
-            float x = fabsf(bg_f3_dot(w, scene.right)) / (z * aspect), y = fabsf(bg_f3_dot(w, scene.up)) / z;
-            need = fmaxf(need, fmaxf(x, y));
-        }
-        if (need > 0) {
-            o->zoom = 0.36397023f / (need / 0.9f);
-            if (o->view_set)
-                render_scene_camera_dir(&scene, o->view, o->distance, o->zoom);
-            else
-                render_scene_camera(&scene, o->distance, o->zoom);
-            memcpy(scene.light, o->light, sizeof scene.light);
-        }
+        render_scene_camera(scene, o->distance, zoom);
+    memcpy(scene->light, o->light, sizeof scene->light);
+}
+
+/* Automatic framing of a --mesh without --zoom: the zoom at which the mesh's
+ * silhouette (its vertices' projections) fills 90% of the image's shorter
+ * half-extent. */
+static void frame_mesh(render_opts *o, render_state *s)
+{
+    const float aspect = (float)o->width / (float)o->height;
+    const render_scene *sc = &s->scene;
+    float need = 0;
+    for (size_t i = 0; i < s->mesh.ntri * 3; i++) {
+        const float *p = s->mesh.pos + i * 3;
+        float w[3] = {p[0] - sc->eye[0], p[1] - sc->eye[1], p[2] - sc->eye[2]};
+        float z = bg_f3_dot(w, sc->fwd);
+        if (!(z > 1e-3f))
+            continue;
+        float x = fabsf(bg_f3_dot(w, sc->right)) / (z * aspect), y = fabsf(bg_f3_dot(w, sc->up)) / z;
+        need = fmaxf(need, fmaxf(x, y));
     }
+    if (need > 0) {
+        o->zoom = 0.36397023f / (need / 0.9f);
+        set_camera(o, &s->scene, o->zoom);
+    }
+}
 
-    r->triangles = scene.mesh ? mesh.ntri : 0;
+/* Figure 4 (e), (f): the same model seen through a longer lens, so that the
+ * height texture is magnified until its bilinear reconstruction is piecewise
+ * flat (section 6), aimed at the surface under fig4_target of the full view
+ * (the spider's abdomen): the camera moves parallel to itself onto it. */
+static void aim_closeup(const render_opts *o, const render_state *s, render_scene *close)
+{
+    const render_scene *sc = &s->scene;
+    set_camera(o, close, o->zoom * o->fig4_zoom);
+    const float aspect = (float)o->width / (float)o->height;
+    float u = (2.0f * o->fig4_target[0] - 1.0f) * aspect * sc->tan_half;
+    float v = (1.0f - 2.0f * o->fig4_target[1]) * sc->tan_half, d[3];
+    for (int a = 0; a < 3; a++)
+        d[a] = sc->fwd[a] + u * sc->right[a] + v * sc->up[a];
+    bg_f3_normalize(d);
+    render_hit hh;
+    int hit = s->rtc ? render_embree_intersect(s->rtc, sc->eye, d, &hh)
+                     : render_mesh_intersect(&s->mesh, sc->eye, d, INFINITY, &hh);
+    if (hit)
+        for (int a = 0; a < 3; a++)
+            close->eye[a] += sc->eye[a] + hh.t * d[a];
+}
 
-    render_job job, job2;
-    memset(&job2, 0, sizeof job2);
-    render_scene close_scene = scene;
+/* The per-method statistics into r (Figure 4's last two from the close-up). */
+static bg_status collect_stats(const render_opts *o, const render_job *job, const render_job *job2,
+                               render_stats *st, render_result *r, bgt_err *e)
+{
     const int fig4 = o->preset == PRESET_FIG4;
-    fill_job(o, &scene, &job, o->width, o->height, o->ss);
+    for (int m = 0; m < o->nmethods && m < (fig4 ? 6 : job->nmethods); m++) {
+        const render_job *J = fig4 && m >= 4 ? job2 : job;
+        if (render_stats_compute(J, fig4 && m >= 4 ? m - 4 : m, &st[m]))
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+        r->methods[m] = o->methods[m];
+        r->stats[m] = st[m];
+        r->nmethods = m + 1;
+        if (fig4)
+            r->labels[m] = fig4_caption[m];
+    }
+    return BG_OK;
+}
+
+/* The picture to write: Figure 4's layout, the --compare panel, or the one
+ * method's image. */
+static bg_status compose_output(const render_opts *o, const render_state *s, const render_job *job,
+                                const render_job *job2, const render_stats *st, const char *stamp,
+                                render_canvas *canvas, bg_image *img, bgt_err *e)
+{
+    bg_status rc;
+    if (o->preset == PRESET_FIG4) {
+        if ((rc = compose_fig4(job, job2, st, stamp, canvas, e)) != BG_OK)
+            return rc;
+        img->width = canvas->w, img->height = canvas->h, img->pixels = canvas->rgb;
+    } else if (o->compare) {
+        int texref = 0;
+        for (int m = 0; m < job->nmethods; m++)
+            texref |= render_method_textured(job->methods[m]) && s->tex.any_height; /* render_run */
+        if ((rc = compose_panel(o, job, st, stamp, texref ? "surfgrad-heightmap" : "surfgrad",
+                                canvas, e)) != BG_OK)
+            return rc;
+        img->width = canvas->w, img->height = canvas->h, img->pixels = canvas->rgb;
+    } else {
+        img->width = job->width, img->height = job->height_px, img->pixels = job->rgb[0];
+    }
+    img->channels = 3;
+    return BG_OK;
+}
+
+bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
+{
+    bg_pixel_type type = BG_PIXEL_U8;
+    int srgb = 1;
+    bg_status rc;
+    memset(r, 0, sizeof *r);
+    render_opts oo = *o_in, *o = &oo;
+    if ((rc = check_render(o, &type, &srgb, e)) != BG_OK)
+        return rc;
+
+    render_state s;
+    memset(&s, 0, sizeof s);
+    render_job job, job2;
+    memset(&job, 0, sizeof job);
+    memset(&job2, 0, sizeof job2);
+    render_canvas canvas = {0, 0, NULL};
+    if ((rc = load_scene(o, &s, r, e)) != BG_OK)
+        goto done;
+    set_camera(o, &s.scene, o->zoom);
+    if (o->mesh_path && !o->zoom_set)
+        frame_mesh(o, &s);
+
+    const int fig4 = o->preset == PRESET_FIG4;
+    render_scene close_scene = s.scene;
+    fill_job(o, &s.scene, &job, o->width, o->height, o->ss);
     if (fig4)
         job.nmethods = 4;
-    render_stats st[RENDER_MAX_METHODS];
-    render_canvas canvas = {0, 0, NULL};
-    char stamp[640];
-    rc = BG_OK;
     double tr = now_seconds();
     if (render_run(&job)) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
         goto done;
     }
     if (fig4) {
-        /* (e), (f): the same model seen through a longer lens, so that the
-         * height texture is magnified until its bilinear reconstruction is
-         * piecewise flat (section 6). */
-        if (o->view_set)
-            render_scene_camera_dir(&close_scene, o->view, o->distance, o->zoom * o->fig4_zoom);
-        else
-            render_scene_camera(&close_scene, o->distance, o->zoom * o->fig4_zoom);
-        memcpy(close_scene.light, o->light, sizeof close_scene.light);
-        /* Aimed at the surface under (fig4_target) of the full view (the
-         * spider's abdomen): the camera moves parallel to itself onto it. */
-        {
-            const float aspect = (float)o->width / (float)o->height;
-            float u = (2.0f * o->fig4_target[0] - 1.0f) * aspect * scene.tan_half;
-            float v = (1.0f - 2.0f * o->fig4_target[1]) * scene.tan_half, d[3];
-            for (int a = 0; a < 3; a++)
-                d[a] = scene.fwd[a] + u * scene.right[a] + v * scene.up[a];
-            bg_f3_normalize(d);
-            render_hit hh;
-            int hit = rtc ? render_embree_intersect(rtc, scene.eye, d, &hh)
-                          : render_mesh_intersect(&mesh, scene.eye, d, INFINITY, &hh);
-            if (hit)
-                for (int a = 0; a < 3; a++)
-                    close_scene.eye[a] += scene.eye[a] + hh.t * d[a];
-        }
+        aim_closeup(o, &s, &close_scene);
         fill_job(o, &close_scene, &job2, o->width, o->height, o->ss);
         job2.nmethods = 2;
         job2.methods[0] = o->methods[4], job2.methods[1] = o->methods[5];
@@ -664,47 +731,22 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
         }
     }
     r->render_seconds = now_seconds() - tr;
-    for (int m = 0; m < o->nmethods && m < (fig4 ? 6 : job.nmethods); m++) {
-        const render_job *J = fig4 && m >= 4 ? &job2 : &job;
-        if (render_stats_compute(J, fig4 && m >= 4 ? m - 4 : m, &st[m])) {
-            rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-            goto done;
-        }
-        r->methods[m] = o->methods[m];
-        r->stats[m] = st[m];
-        r->nmethods = m + 1;
-        if (fig4)
-            r->labels[m] = fig4_caption[m];
-    }
+    render_stats st[RENDER_MAX_METHODS];
+    if ((rc = collect_stats(o, &job, &job2, st, r, e)) != BG_OK)
+        goto done;
+    char stamp[640];
     make_stamp(o, r, stamp, sizeof stamp);
     bg_image img;
-    if (fig4) {
-        if ((rc = compose_fig4(&job, &job2, st, stamp, &canvas, e)) != BG_OK)
-            goto done;
-        img.width = canvas.w, img.height = canvas.h, img.pixels = canvas.rgb;
-    } else if (o->compare) {
-        int texref = 0;
-        for (int m = 0; m < job.nmethods; m++)
-            texref |= render_method_textured(job.methods[m]) && tex.any_height; /* render_run */
-        if ((rc = compose_panel(o, &job, st, stamp, texref ? "surfgrad-heightmap" : "surfgrad",
-                                &canvas, e)) != BG_OK)
-            goto done;
-        img.width = canvas.w, img.height = canvas.h, img.pixels = canvas.rgb;
-    } else {
-        img.width = job.width, img.height = job.height_px, img.pixels = job.rgb[0];
-    }
-    img.channels = 3;
-    if ((rc = write_image(o->output, o->format, &img, type, srgb, e)) != BG_OK)
+    if ((rc = compose_output(o, &s, &job, &job2, st, stamp, &canvas, &img, e)) != BG_OK ||
+        (rc = write_image(o->output, o->format, &img, type, srgb, e)) != BG_OK)
         goto done;
     r->out_width = img.width, r->out_height = img.height;
     if (o->sweep)
-        rc = density_sweep(o, &scene, r, e);
+        rc = density_sweep(o, &s.scene, r, e);
 done:
     render_canvas_free(&canvas);
     render_job_free(&job);
     render_job_free(&job2);
-    render_embree_free(rtc);
-    render_textures_free(&tex);
-    render_mesh_free(&mesh);
+    render_state_free(&s);
     return rc;
 }
