@@ -225,35 +225,12 @@ bg_status precheck(const char *path, char *err, size_t errlen)
     return BG_OK;
 }
 
-bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err, size_t errlen)
+// Every face of every mesh has indices within its mesh's vertices: checked
+// before post-processing, since Debian's assimp is built with its internal
+// asserts on, and a truncated PLY yields empty faces that pass its validation
+// but abort() the process inside the triangulation step.
+static bg_status check_faces(const aiScene *scene, const char *path, char *err, size_t errlen)
 {
-    const bool is_ply = has_extension(path, "ply");
-    const bool is_stl = has_extension(path, "stl");
-    unsigned join = flags & 3u;
-    bool do_join = join == BG_MESH_JOIN_ALWAYS || (join == BG_MESH_JOIN_AUTO && !is_ply);
-    bool drop_normals = (flags & BG_MESH_DROP_NORMALS) || is_stl;
-
-    Assimp::Importer importer;
-    unsigned pp = aiProcess_Triangulate;
-    if (do_join)
-        pp |= aiProcess_JoinIdenticalVertices;
-    if (drop_normals) {
-        // Removed before joining, so vertices that differ only by a facet
-        // normal merge and smooth normals can be formed over them.
-        importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS);
-        pp |= aiProcess_RemoveComponent;
-    }
-    // Two phases: import and validate, check the faces ourselves, and only
-    // then post-process. Debian's assimp is built with its internal asserts
-    // on, and a truncated PLY yields empty faces that pass its validation but
-    // abort() the process inside the triangulation step.
-    const aiScene *scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
-    if (!scene) {
-        const char *why = importer.GetErrorString();
-        bg_io_set_error(err, errlen, "'%s': not a readable mesh (%s)", path,
-                  why && *why ? why : "unknown format");
-        return BG_ERR_FORMAT;
-    }
     for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
         const aiMesh *am = scene->mMeshes[k];
         if (!am)
@@ -272,31 +249,223 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             }
         }
     }
-    // assimp's JoinIdenticalVertices takes a NaN position as equal to finite
-    // ones near it (a triangle (nan,0,0), (1,0,0), (0,1,0) came out as one
-    // vertex), so valid vertices would vanish. With any NaN/Inf position the
-    // vertices stay as imported; the bad ones get the sentinel normal later.
-    for (unsigned k = 0; (pp & aiProcess_JoinIdenticalVertices) && k < scene->mNumMeshes; ++k) {
+    return BG_OK;
+}
+
+// assimp's JoinIdenticalVertices takes a NaN position as equal to finite
+// ones near it (a triangle (nan,0,0), (1,0,0), (0,1,0) came out as one
+// vertex), so valid vertices would vanish. With any NaN/Inf position the
+// vertices stay as imported; the bad ones get the sentinel normal later.
+static bool any_nonfinite_position(const aiScene *scene)
+{
+    for (unsigned k = 0; k < scene->mNumMeshes; ++k) {
         const aiMesh *am = scene->mMeshes[k];
         for (unsigned v = 0; am && am->mVertices && v < am->mNumVertices; ++v) {
             const aiVector3D &p = am->mVertices[v];
-            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                pp &= ~static_cast<unsigned>(aiProcess_JoinIdenticalVertices);
-                break;
-            }
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                return true;
         }
     }
+    return false;
+}
+
+// Import and validate, check the faces ourselves (check_faces), and only then
+// post-process with pp. Null on failure, with the message in err.
+static const aiScene *read_scene(Assimp::Importer &importer, const char *path, unsigned pp,
+                                 char *err, size_t errlen)
+{
+    const aiScene *scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+    if (!scene) {
+        const char *why = importer.GetErrorString();
+        bg_io_set_error(err, errlen, "'%s': not a readable mesh (%s)", path,
+                  why && *why ? why : "unknown format");
+        return nullptr;
+    }
+    if (check_faces(scene, path, err, errlen) != BG_OK)
+        return nullptr;
+    if ((pp & aiProcess_JoinIdenticalVertices) && any_nonfinite_position(scene))
+        pp &= ~static_cast<unsigned>(aiProcess_JoinIdenticalVertices);
     scene = importer.ApplyPostProcessing(pp);
     if (!scene) {
         const char *why = importer.GetErrorString();
         bg_io_set_error(err, errlen, "'%s': not a usable mesh (%s)", path,
                   why && *why ? why : "post-processing failed");
-        return BG_ERR_FORMAT;
+        return nullptr;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || scene->mNumMeshes == 0) {
         bg_io_set_error(err, errlen, "'%s': the file holds no mesh", path);
+        return nullptr;
+    }
+    return scene;
+}
+
+// The sizes of the flattened mesh and the attributes every instance has.
+struct mesh_shape {
+    size_t nv = 0, nt = 0, dropped = 0;
+    bool normals = true, uvs = true, tangents = true;
+};
+
+static mesh_shape shape_of(const std::vector<instance> &inst, bool drop_normals)
+{
+    mesh_shape s;
+    s.normals = !drop_normals;
+    for (const instance &in : inst) {
+        const aiMesh *m = in.mesh;
+        s.nv += m->mNumVertices;
+        for (unsigned f = 0; f < m->mNumFaces; ++f) {
+            if (m->mFaces[f].mNumIndices == 3)
+                ++s.nt;
+            else
+                ++s.dropped;
+        }
+        s.normals = s.normals && m->HasNormals();
+        s.uvs = s.uvs && m->HasTextureCoords(0);
+        s.tangents = s.tangents && m->HasTangentsAndBitangents();
+    }
+    s.tangents = s.tangents && s.normals && s.uvs;
+    return s;
+}
+
+// The arrays of a mesh of shape s (materials only when the scene has several).
+static bool alloc_mesh(const mesh_shape &s, size_t instances, bool materials, bg_mesh &m)
+{
+    const size_t nv = s.nv, nt = s.nt;
+    m.vertex_count = nv;
+    m.triangle_count = nt;
+    m.mesh_count = instances;
+    m.dropped_primitives = s.dropped;
+    m.px = alloc_array<float>(nv);
+    m.py = alloc_array<float>(nv);
+    m.pz = alloc_array<float>(nv);
+    bool ok = m.px && m.py && m.pz;
+    if (s.normals) {
+        m.nx = alloc_array<float>(nv);
+        m.ny = alloc_array<float>(nv);
+        m.nz = alloc_array<float>(nv);
+        ok = ok && m.nx && m.ny && m.nz;
+    }
+    if (s.uvs) {
+        m.u = alloc_array<float>(nv);
+        m.v = alloc_array<float>(nv);
+        ok = ok && m.u && m.v;
+    }
+    if (s.tangents) {
+        m.tx = alloc_array<float>(nv);
+        m.ty = alloc_array<float>(nv);
+        m.tz = alloc_array<float>(nv);
+        m.tw = alloc_array<float>(nv);
+        ok = ok && m.tx && m.ty && m.tz && m.tw;
+    }
+    m.indices = alloc_array<uint32_t>(nt * 3 >= nt ? nt * 3 : SIZE_MAX);
+    ok = ok && m.indices;
+    if (materials) {
+        m.material = alloc_array<uint32_t>(nt);
+        ok = ok && m.material;
+    }
+    return ok;
+}
+
+// One instance's vertices at `base`. Normals go through the inverse
+// transpose; a tangent is a surface direction: it goes through the transform
+// itself, as the bitangent does, and the sign is the handedness of (n, t, b)
+// after the transform (assimp's glTF importer stores b = w cross(n, t)).
+// Returns whether the transform mirrors (negative determinant), which
+// reverses the winding.
+static bool copy_vertices(const instance &in, const mesh_shape &s, bg_mesh &m, size_t base)
+{
+    const aiMesh *am = in.mesh;
+    aiMatrix3x3 linear(in.transform);
+    aiMatrix3x3 normal_matrix = linear;
+    bool flip = false;
+    if (!in.identity) {
+        float det = linear.Determinant();
+        flip = det < 0.0f;
+        if (det != 0.0f)
+            normal_matrix.Inverse().Transpose();
+    }
+    for (unsigned i = 0; i < am->mNumVertices; ++i) {
+        aiVector3D p = am->mVertices[i];
+        if (!in.identity)
+            p = in.transform * p;
+        store(m.px, m.py, m.pz, base + i, p);
+        if (s.normals) {
+            aiVector3D n = am->mNormals[i];
+            if (!in.identity)
+                n = unit_if_finite(normal_matrix * n);
+            store(m.nx, m.ny, m.nz, base + i, n);
+        }
+        if (s.uvs) {
+            m.u[base + i] = am->mTextureCoords[0][i].x;
+            m.v[base + i] = am->mTextureCoords[0][i].y;
+        }
+        if (s.tangents) {
+            aiVector3D n = am->mNormals[i], tg = am->mTangents[i], b = am->mBitangents[i];
+            if (!in.identity) {
+                n = normal_matrix * n;
+                tg = linear * tg;
+                b = linear * b;
+            }
+            tg = unit_if_finite(tg);
+            store(m.tx, m.ty, m.tz, base + i, tg);
+            m.tw[base + i] = ((n ^ tg) * b) < 0.0f ? -1.0f : 1.0f;
+        }
+    }
+    return flip;
+}
+
+// One mesh's triangles from triangle *t on, indices offset by base, in the
+// other winding when flip. The index and material checks repeat what
+// ValidateDataStructure rejects already, so that no caller can ever index out
+// of the arrays.
+static bg_status copy_faces(const aiScene *scene, const aiMesh *am, bool flip, size_t base,
+                            bg_mesh &m, size_t *t, const char *path, char *err, size_t errlen)
+{
+    if (m.material && am->mMaterialIndex >= scene->mNumMaterials) {
+        bg_io_set_error(err, errlen, "'%s': mesh '%s' uses material %u of %u", path,
+                        am->mName.C_Str(), am->mMaterialIndex, scene->mNumMaterials);
         return BG_ERR_FORMAT;
     }
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+        const aiFace &face = am->mFaces[f];
+        if (face.mNumIndices != 3)
+            continue;
+        if (m.material)
+            m.material[*t] = am->mMaterialIndex;
+        for (unsigned c = 0; c < 3; ++c) {
+            unsigned idx = face.mIndices[flip ? 2 - c : c];
+            if (idx >= am->mNumVertices) {
+                bg_io_set_error(err, errlen, "'%s': face %u of mesh '%s' refers to vertex %u of %u",
+                          path, f, am->mName.C_Str(), idx, am->mNumVertices);
+                return BG_ERR_FORMAT;
+            }
+            m.indices[3 * *t + c] = static_cast<uint32_t>(base + idx);
+        }
+        ++*t;
+    }
+    return BG_OK;
+}
+
+bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err, size_t errlen)
+{
+    const bool is_ply = has_extension(path, "ply");
+    const bool is_stl = has_extension(path, "stl");
+    unsigned join = flags & 3u;
+    bool do_join = join == BG_MESH_JOIN_ALWAYS || (join == BG_MESH_JOIN_AUTO && !is_ply);
+    bool drop_normals = (flags & BG_MESH_DROP_NORMALS) || is_stl;
+
+    Assimp::Importer importer;
+    unsigned pp = aiProcess_Triangulate;
+    if (do_join)
+        pp |= aiProcess_JoinIdenticalVertices;
+    if (drop_normals) {
+        // Removed before joining, so vertices that differ only by a facet
+        // normal merge and smooth normals can be formed over them.
+        importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS);
+        pp |= aiProcess_RemoveComponent;
+    }
+    const aiScene *scene = read_scene(importer, path, pp, err, errlen);
+    if (!scene)
+        return BG_ERR_FORMAT;
 
     std::vector<instance> inst;
     aiMatrix4x4 identity;
@@ -307,147 +476,34 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
             if (scene->mMeshes[k])
                 inst.push_back({scene->mMeshes[k], identity, true});
     }
-
-    size_t nv = 0, nt = 0, dropped = 0;
-    bool normals = !drop_normals, uvs = true, tangents = true;
-    for (const instance &in : inst) {
-        const aiMesh *m = in.mesh;
-        nv += m->mNumVertices;
-        for (unsigned f = 0; f < m->mNumFaces; ++f) {
-            if (m->mFaces[f].mNumIndices == 3)
-                ++nt;
-            else
-                ++dropped;
-        }
-        normals = normals && m->HasNormals();
-        uvs = uvs && m->HasTextureCoords(0);
-        tangents = tangents && m->HasTangentsAndBitangents();
-    }
-    tangents = tangents && normals && uvs;
-    if (nt == 0) {
+    const mesh_shape s = shape_of(inst, drop_normals);
+    if (s.nt == 0) {
         bg_io_set_error(err, errlen, "'%s': no triangles in the mesh (%zu vertices, %zu points/lines)",
-                  path, nv, dropped);
+                  path, s.nv, s.dropped);
         return BG_ERR_FORMAT;
     }
-    if (nv > UINT32_MAX) {
+    if (s.nv > UINT32_MAX) {
         bg_io_set_error(err, errlen, "'%s': %zu vertices, more than the 2^32-1 this tool indexes", path,
-                  nv);
+                  s.nv);
         return BG_ERR_FORMAT;
     }
 
     bg_mesh m{};
-    m.vertex_count = nv;
-    m.triangle_count = nt;
-    m.mesh_count = inst.size();
-    m.dropped_primitives = dropped;
-    m.px = alloc_array<float>(nv);
-    m.py = alloc_array<float>(nv);
-    m.pz = alloc_array<float>(nv);
-    bool ok = m.px && m.py && m.pz;
-    if (normals) {
-        m.nx = alloc_array<float>(nv);
-        m.ny = alloc_array<float>(nv);
-        m.nz = alloc_array<float>(nv);
-        ok = ok && m.nx && m.ny && m.nz;
-    }
-    if (uvs) {
-        m.u = alloc_array<float>(nv);
-        m.v = alloc_array<float>(nv);
-        ok = ok && m.u && m.v;
-    }
-    if (tangents) {
-        m.tx = alloc_array<float>(nv);
-        m.ty = alloc_array<float>(nv);
-        m.tz = alloc_array<float>(nv);
-        m.tw = alloc_array<float>(nv);
-        ok = ok && m.tx && m.ty && m.tz && m.tw;
-    }
-    m.indices = alloc_array<uint32_t>(nt * 3 >= nt ? nt * 3 : SIZE_MAX);
-    ok = ok && m.indices;
-    if (scene->mNumMaterials > 1) {
-        m.material = alloc_array<uint32_t>(nt);
-        ok = ok && m.material;
-    }
-    if (!ok) {
+    if (!alloc_mesh(s, inst.size(), scene->mNumMaterials > 1, m)) {
         bg_mesh_free(&m);
-        bg_io_set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path, nv, nt);
+        bg_io_set_error(err, errlen, "'%s': out of memory for %zu vertices, %zu triangles", path,
+                        s.nv, s.nt);
         return BG_ERR_OUT_OF_MEMORY;
     }
-
     size_t base = 0, t = 0;
     for (const instance &in : inst) {
-        const aiMesh *am = in.mesh;
-        // Normals go through the inverse transpose, and a mirroring transform
-        // (negative determinant) reverses the winding, so that the triangle
-        // order still agrees with the side the normals point to.
-        aiMatrix3x3 linear(in.transform);
-        aiMatrix3x3 normal_matrix = linear;
-        bool flip = false;
-        if (!in.identity) {
-            float det = linear.Determinant();
-            flip = det < 0.0f;
-            if (det != 0.0f)
-                normal_matrix.Inverse().Transpose();
-        }
-        for (unsigned i = 0; i < am->mNumVertices; ++i) {
-            aiVector3D p = am->mVertices[i];
-            if (!in.identity)
-                p = in.transform * p;
-            store(m.px, m.py, m.pz, base + i, p);
-            if (normals) {
-                aiVector3D n = am->mNormals[i];
-                if (!in.identity)
-                    n = unit_if_finite(normal_matrix * n);
-                store(m.nx, m.ny, m.nz, base + i, n);
-            }
-            if (uvs) {
-                m.u[base + i] = am->mTextureCoords[0][i].x;
-                m.v[base + i] = am->mTextureCoords[0][i].y;
-            }
-            if (tangents) {
-                // A tangent is a surface direction: it goes through the
-                // transform itself, as the bitangent does; the sign is the
-                // handedness of (n, t, b) after the transform (assimp's glTF
-                // importer stores b = w cross(n, t)).
-                aiVector3D n = am->mNormals[i], tg = am->mTangents[i], b = am->mBitangents[i];
-                if (!in.identity) {
-                    n = normal_matrix * n;
-                    tg = linear * tg;
-                    b = linear * b;
-                }
-                tg = unit_if_finite(tg);
-                store(m.tx, m.ty, m.tz, base + i, tg);
-                m.tw[base + i] = ((n ^ tg) * b) < 0.0f ? -1.0f : 1.0f;
-            }
-        }
-        if (m.material && am->mMaterialIndex >= scene->mNumMaterials) {
-            // ValidateDataStructure rejects this already (as below).
+        const bool flip = copy_vertices(in, s, m, base);
+        bg_status st = copy_faces(scene, in.mesh, flip, base, m, &t, path, err, errlen);
+        if (st != BG_OK) {
             bg_mesh_free(&m);
-            bg_io_set_error(err, errlen, "'%s': mesh '%s' uses material %u of %u", path,
-                            am->mName.C_Str(), am->mMaterialIndex, scene->mNumMaterials);
-            return BG_ERR_FORMAT;
+            return st;
         }
-        for (unsigned f = 0; f < am->mNumFaces; ++f) {
-            const aiFace &face = am->mFaces[f];
-            if (face.mNumIndices != 3)
-                continue;
-            if (m.material)
-                m.material[t] = am->mMaterialIndex;
-            for (unsigned c = 0; c < 3; ++c) {
-                unsigned idx = face.mIndices[flip ? 2 - c : c];
-                if (idx >= am->mNumVertices) {
-                    // ValidateDataStructure rejects this already; kept so that
-                    // no caller can ever index out of the arrays.
-                    bg_mesh_free(&m);
-                    bg_io_set_error(err, errlen, "'%s': face %u of mesh '%s' refers to vertex %u of %u",
-                              path, f, am->mName.C_Str(), idx, am->mNumVertices);
-                    return BG_ERR_FORMAT;
-                }
-                m.indices[3 * t + c] = static_cast<uint32_t>(base + idx);
-            }
-            ++t;
-        }
-        base += am->mNumVertices;
+        base += in.mesh->mNumVertices;
     }
     bg_status st = read_materials(scene, path, m, err, errlen);
     if (st != BG_OK) {
