@@ -553,7 +553,7 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
 
 /* Full vectors from i while two or more are left, each vector's hash chain
  * started one step ahead (noise_cell): i is left at the first vector the
- * caller's BG_FOR_BATCH loop still has to do. AT(hs, p) is the work at p.
+ * caller's BG_FOR_BATCH loop still has to do. AT(cell, p) is the work at p.
  * Only where the hashes are packed (BG_PIPELINE): with 8 hash registers to
  * carry, or a libm floor computed twice (the scalar kernel), it costs more
  * than it hides (the sse2 and scalar rows of docs/PERFORMANCE.md). */
