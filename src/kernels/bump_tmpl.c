@@ -234,25 +234,43 @@ BG_INLINE vf lattice(vf x, vi *cell)
 }
 
 
-/* Improved noise in two steps: noise_cell is the lattice cell and its hash
- * chain, noise_at the rest (fractions, fade, corners, lerps). The batch loops
- * start the next vector's chain (a gather and three dependent table lookups)
- * before this vector's corners, so the out-of-order core overlaps the two;
- * the operations and so the bits are the same as in one step. noise_at
- * recomputes the fractions rather than carrying them (3 registers). */
-BG_INLINE vhash noise_cell(vf x, vf y, vf z)
+/* Improved noise in two steps: noise_cell is the lattice cell, its hash
+ * chain and the fractions, noise_at the rest (fades, corners, lerps). The
+ * batch loops start the next vector's chain (a gather and three dependent
+ * table lookups) before this vector's corners, so the out-of-order core
+ * overlaps the two; the operations and so the bits are the same as in one
+ * step. The fBm octave loop carries the fractions (3 floors and 3
+ * subtractions fewer per octave: AVX2 fbm3 233 -> 229 instructions per
+ * sample); the noise3 batch computes them again from the loaded coordinates
+ * (cell_refrac), which llvm-mca's Zen 3 model puts at 2.5 cycles per vector
+ * less than carrying them (docs/KERNELS.md item 7). */
+typedef struct vcell {
+    vhash h;
+    vf fx, fy, fz;
+} vcell;
+BG_INLINE vcell noise_cell(vf x, vf y, vf z)
 {
     vi X, Y, Z;
-    (void)lattice(x, &X), (void)lattice(y, &Y), (void)lattice(z, &Z);
-    return vi_hashp(X, Y, Z);
+    vcell c;
+    c.fx = lattice(x, &X), c.fy = lattice(y, &Y), c.fz = lattice(z, &Z);
+    c.h = vi_hashp(X, Y, Z);
+    return c;
+}
+
+/* The cell with its fractions computed again from the coordinates. */
+BG_INLINE vcell cell_refrac(vcell c, vf x, vf y, vf z)
+{
+    vi X, Y, Z; /* unused: noise_cell's */
+    c.fx = lattice(x, &X), c.fy = lattice(y, &Y), c.fz = lattice(z, &Z);
+    return c;
 }
 
 /* The gradient only when `want_grad` (a constant after inlining, so the
  * value-only kernel does no gradient work). */
-BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
+BG_INLINE corner noise_at(vcell c, int want_grad)
 {
-    vi X, Y, Z; /* unused here: noise_cell's */
-    vf fx = lattice(x, &X), fy = lattice(y, &Y), fz = lattice(z, &Z);
+    vhash hs = c.h;
+    vf fx = c.fx, fy = c.fy, fz = c.fz;
     vf u = fade(fx), v = fade(fy), w = fade(fz);
 
     vf x1 = vf_sub(fx, vf_set1(1)), y1 = vf_sub(fy, vf_set1(1)), z1 = vf_sub(fz, vf_set1(1));
@@ -291,7 +309,7 @@ BG_INLINE corner noise_at(vhash hs, vf x, vf y, vf z, int want_grad)
 
 BG_INLINE corner noise_vec(vf x, vf y, vf z, int want_grad)
 {
-    return noise_at(noise_cell(x, y, z), x, y, z, want_grad);
+    return noise_at(noise_cell(x, y, z), want_grad);
 }
 
 /* ---- fBm and turbulence (Perlin 1985) -------------------------------------- */
@@ -356,20 +374,17 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
 #ifdef BG_PIPELINE
     /* Octave i + 1's hash chain is started before octave i's corners (noise_at). */
     vf fq = vf_set1(freq);
-    vf px = vf_mul(x, fq), py = vf_mul(y, fq), pz = vf_mul(z, fq);
-    vhash hs = noise_cell(px, py, pz);
+    vcell cell = noise_cell(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq));
 #endif
     for (int i = 0; i < octaves; i++) {
 #ifdef BG_PIPELINE
-        vf nx = px, ny = py, nz = pz;
-        vhash next = hs;
+        vcell next = cell;
         if (i + 1 < octaves) {
             vf nfq = vf_set1(freq * lac);
-            nx = vf_mul(x, nfq), ny = vf_mul(y, nfq), nz = vf_mul(z, nfq);
-            next = noise_cell(nx, ny, nz);
+            next = noise_cell(vf_mul(x, nfq), vf_mul(y, nfq), vf_mul(z, nfq));
         }
-        corner o = noise_at(hs, px, py, pz, want_grad);
-        px = nx, py = ny, pz = nz, hs = next;
+        corner o = noise_at(cell, want_grad);
+        cell = next;
 #else
         vf fq = vf_set1(freq);
         corner o = noise_vec(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq), want_grad);
@@ -538,7 +553,7 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
 
 /* Full vectors from i while two or more are left, each vector's hash chain
  * started one step ahead (noise_cell): i is left at the first vector the
- * caller's BG_FOR_BATCH loop still has to do. AT(hs, p) is the work at p.
+ * caller's BG_FOR_BATCH loop still has to do. AT(cell, p) is the work at p.
  * Only where the hashes are packed (BG_PIPELINE): with 8 hash registers to
  * carry, or a libm floor computed twice (the scalar kernel), it costs more
  * than it hides (the sse2 and scalar rows of docs/PERFORMANCE.md). */
@@ -547,15 +562,15 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
 #else
 #define BG_PIPELINED(i, n, AT)                                                                  \
     if ((n) >= 2 * LANES) {                                                                    \
-        vhash hs_ = noise_cell(vf_loadn(x, LANES), vf_loadn(y, LANES), vf_loadn(z, LANES));    \
+        vcell c_ = noise_cell(vf_loadn(x, LANES), vf_loadn(y, LANES), vf_loadn(z, LANES));     \
         for (; i + 2 * LANES <= (n); i += LANES) {                                             \
             size_t j_ = i + LANES;                                                             \
-            vhash next_ = noise_cell(vf_loadn(x + j_, LANES), vf_loadn(y + j_, LANES),         \
+            vcell next_ = noise_cell(vf_loadn(x + j_, LANES), vf_loadn(y + j_, LANES),         \
                                      vf_loadn(z + j_, LANES));                                 \
-            AT(hs_, i);                                                                        \
-            hs_ = next_;                                                                       \
+            AT(c_, i);                                                                         \
+            c_ = next_;                                                                        \
         }                                                                                      \
-        AT(hs_, i);                                                                            \
+        AT(c_, i);                                                                             \
         i += LANES;                                                                            \
     }
 #endif
@@ -573,10 +588,11 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
 void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
 {
     size_t i0 = 0;
-#define NOISE3_AT(hs, p)                                                                        \
+#define NOISE3_AT(cell, p)                                                                      \
     store_out(v + (p),                                                                          \
-              noise_at(hs, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),                  \
-                       vf_loadn(z + (p), LANES), 0).v,                                          \
+              noise_at(cell_refrac(cell, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),    \
+                                   vf_loadn(z + (p), LANES)),                                   \
+                       0).v,                                                                    \
               LANES)
     BG_PIPELINED(i0, BG_VEC_N(n), NOISE3_AT)
 #undef NOISE3_AT
@@ -607,10 +623,7 @@ void KFN(noise3_grad)(const bg_real *x, const bg_real *y, const bg_real *z, size
                       bg_real *gx, bg_real *gy, bg_real *gz)
 {
     size_t i0 = 0;
-#define NOISE3_GRAD_AT(hs, p)                                                                   \
-    store_corner(noise_at(hs, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),               \
-                          vf_loadn(z + (p), LANES), 1),                                         \
-                 p, LANES, v, gx, gy, gz)
+#define NOISE3_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
     BG_PIPELINED_GRAD(i0, BG_VEC_N(n), NOISE3_GRAD_AT)
 #undef NOISE3_GRAD_AT
     BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))

@@ -120,23 +120,44 @@ static inline vi vi_srl8(vi a) { return _mm256_srli_epi32(a, 8); }
  * bump_tmpl.c), -DBG_VEC_PSHUFB_FIRST the first step by bg_perm_bytes too:
  * the alternatives measured in docs/KERNELS.md. */
 #ifndef BG_VEC_GATHER
+/* vpblendvb (b where bit 7 of m's byte is set, else a). gcc 12 folds the
+ * intrinsic into a select on m < 0 and, where one m feeds several blends,
+ * materializes that compare as an extra vpcmpgtb per mask (6 per vector of
+ * the chain): the instruction is written out for gcc. */
+BG_VEC_INLINE __m256i bg_blendv8(__m256i a, __m256i b, __m256i m)
+{
+#if defined(__GNUC__) && !defined(__clang__) && !defined(BG_VEC_BLEND_INTRIN)
+    __m256i r;
+    __asm__("vpblendvb %3, %2, %1, %0" : "=x"(r) : "x"(a), "xm"(b), "x"(m));
+    return r;
+#else
+    return _mm256_blendv_epi8(a, b, m);
+#endif
+}
+/* Slices 2k and 2k + 1 of the table looked up and blended on index bit 4,
+ * then the tree depth first (each pair blended as soon as it is formed), so
+ * that no more than one partial result per level is live: all 16 lookups
+ * first spilled 7 of them to the stack. */
+BG_VEC_INLINE __m256i bg_perm_slice2(const __m128i *t, int k, __m256i lo, __m256i s4)
+{
+    __m256i a = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 2 * k)), lo);
+    __m256i b = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 2 * k + 1)), lo);
+    return bg_blendv8(a, b, s4);
+}
 BG_VEC_INLINE __m256i bg_perm_bytes_of(const uint8_t *tab, __m256i idx)
 {
     const __m128i *t = (const __m128i *)(const void *)tab;
     __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
-    __m256i r[16];
-    for (int k = 0; k < 16; k++)
-        r[k] = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + k)), lo);
-    __m256i s = _mm256_slli_epi16(idx, 3); /* bit 4 -> bit 7 */
-    for (int k = 0; k < 8; k++)
-        r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
-    s = _mm256_slli_epi16(idx, 2); /* bit 5 */
-    for (int k = 0; k < 4; k++)
-        r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
-    s = _mm256_slli_epi16(idx, 1); /* bit 6 */
-    for (int k = 0; k < 2; k++)
-        r[k] = _mm256_blendv_epi8(r[2 * k], r[2 * k + 1], s);
-    return _mm256_blendv_epi8(r[0], r[1], idx); /* bit 7 */
+    __m256i s6 = _mm256_add_epi8(idx, idx); /* bit 6 -> bit 7 */
+    __m256i s5 = _mm256_add_epi8(s6, s6);   /* bit 5 */
+    __m256i s4 = _mm256_add_epi8(s5, s5);   /* bit 4 */
+    __m256i q[2];
+    for (int h = 0; h < 2; h++) {
+        __m256i p0 = bg_blendv8(bg_perm_slice2(t, 4 * h, lo, s4), bg_perm_slice2(t, 4 * h + 1, lo, s4), s5);
+        __m256i p1 = bg_blendv8(bg_perm_slice2(t, 4 * h + 2, lo, s4), bg_perm_slice2(t, 4 * h + 3, lo, s4), s5);
+        q[h] = bg_blendv8(p0, p1, s6);
+    }
+    return bg_blendv8(q[0], q[1], idx); /* bit 7 */
 }
 static inline __m256i bg_perm_bytes(__m256i idx) { return bg_perm_bytes_of(bg_perm256_u8, idx); }
 
