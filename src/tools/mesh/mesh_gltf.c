@@ -122,21 +122,12 @@ static int write_base64(FILE *fp, const unsigned char *d, size_t n)
     return fwrite(out, 1, o, fp) == o ? 0 : -1;
 }
 
-bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *e)
+/* The glTF vertices: one per (vertex, corner tangent). newidx[c] is corner
+ * c's new vertex, src[i] a corner of new vertex i; returns their count. */
+static size_t split_vertices(const mesh_gltf_in *d, size_t C, ckey *keys, uint32_t *newidx,
+                             uint32_t *src)
 {
-    size_t T = d->triangle_count, C = 3 * T;
-    int has_uv = d->u && d->v, has_tan = d->corner_tangents != NULL;
-    ckey *keys = malloc((C ? C : 1) * sizeof *keys);
-    uint32_t *newidx = malloc((C ? C : 1) * sizeof *newidx);
-    uint32_t *src = malloc((C ? C : 1) * sizeof *src); /* new vertex -> a corner */
-    unsigned char *bin = NULL;
-    sbuf js = {0};
-    bg_status rc = BG_OK;
-    if (!keys || !newidx || !src) {
-        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF of %zu triangles", T);
-        goto done;
-    }
-    /* new vertices: one per (vertex, corner tangent) */
+    int has_tan = d->corner_tangents != NULL;
     for (size_t c = 0; c < C; c++) {
         keys[c].k[0] = d->indices[c];
         keys[c].k[5] = (uint32_t)c;
@@ -150,23 +141,33 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
             src[NV++] = keys[i].k[5];
         newidx[keys[i].k[5]] = (uint32_t)(NV - 1);
     }
-    if (NV > UINT32_MAX) {
-        rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "too many vertices for glTF (%zu)", NV);
-        goto done;
-    }
+    return NV;
+}
 
-    /* binary buffer: positions, normals, tangents, uvs, indices (all 4-byte aligned) */
-    size_t off_p = 0, off_n = off_p + 12 * NV, off_t = off_n + 12 * NV;
-    size_t off_uv = off_t + (has_tan ? 16 * NV : 0), off_i = off_uv + (has_uv ? 8 * NV : 0);
-    size_t blen = off_i + 4 * C;
-    bin = malloc(blen ? blen : 1);
-    if (!bin) {
-        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF buffer (%zu bytes)",
-                      blen);
-        goto done;
-    }
-    double mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < NV; i++) {
+/* The binary buffer's layout: positions, normals, tangents, uvs, indices
+ * (all 4-byte aligned), and the bounds of the finite positions. */
+typedef struct gltf_buf {
+    size_t nv, corners;
+    int has_uv, has_tan;
+    size_t off_p, off_n, off_t, off_uv, off_i, len;
+    double mn[3], mx[3];
+} gltf_buf;
+
+static gltf_buf buf_layout(const mesh_gltf_in *d, size_t NV, size_t C)
+{
+    gltf_buf b = {.nv = NV, .corners = C, .has_uv = d->u && d->v, .has_tan = d->corner_tangents != NULL};
+    b.off_p = 0, b.off_n = b.off_p + 12 * NV, b.off_t = b.off_n + 12 * NV;
+    b.off_uv = b.off_t + (b.has_tan ? 16 * NV : 0), b.off_i = b.off_uv + (b.has_uv ? 8 * NV : 0);
+    b.len = b.off_i + 4 * C;
+    for (int a = 0; a < 3; a++)
+        b.mn[a] = INFINITY, b.mx[a] = -INFINITY;
+    return b;
+}
+
+static void fill_buffer(const mesh_gltf_in *d, const uint32_t *newidx, const uint32_t *src,
+                        gltf_buf *b, unsigned char *bin)
+{
+    for (size_t i = 0; i < b->nv; i++) {
         size_t c = src[i];
         uint32_t v = d->indices[c];
         float p[3] = {d->px[v], d->py[v], d->pz[v]};
@@ -174,107 +175,151 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
         if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)
             n[2] = 1.0f; /* the no-normal sentinel: glTF needs unit normals */
         for (int a = 0; a < 3; a++) {
-            put_f32(bin + off_p + 12 * i + 4 * (size_t)a, p[a]);
-            put_f32(bin + off_n + 12 * i + 4 * (size_t)a, n[a]);
+            put_f32(bin + b->off_p + 12 * i + 4 * (size_t)a, p[a]);
+            put_f32(bin + b->off_n + 12 * i + 4 * (size_t)a, n[a]);
             if (isfinite(p[a])) {
-                mn[a] = p[a] < mn[a] ? p[a] : mn[a];
-                mx[a] = p[a] > mx[a] ? p[a] : mx[a];
+                b->mn[a] = p[a] < b->mn[a] ? p[a] : b->mn[a];
+                b->mx[a] = p[a] > b->mx[a] ? p[a] : b->mx[a];
             }
         }
-        if (has_tan)
+        if (b->has_tan)
             for (int a = 0; a < 4; a++)
-                put_f32(bin + off_t + 16 * i + 4 * (size_t)a, d->corner_tangents[4 * c + (size_t)a]);
-        if (has_uv) {
-            put_f32(bin + off_uv + 8 * i, d->u[v]);
-            put_f32(bin + off_uv + 8 * i + 4, 1.0f - d->v[v]);
+                put_f32(bin + b->off_t + 16 * i + 4 * (size_t)a, d->corner_tangents[4 * c + (size_t)a]);
+        if (b->has_uv) {
+            put_f32(bin + b->off_uv + 8 * i, d->u[v]);
+            put_f32(bin + b->off_uv + 8 * i + 4, 1.0f - d->v[v]);
         }
     }
-    for (size_t c = 0; c < C; c++)
-        put_u32(bin + off_i + 4 * c, newidx[c]);
+    for (size_t c = 0; c < b->corners; c++)
+        put_u32(bin + b->off_i + 4 * c, newidx[c]);
+}
 
-    /* JSON */
+/* The JSON of the file, up to the buffer's data URI when !binary. */
+static void gltf_json(sbuf *js, const mesh_gltf_in *d, const gltf_buf *b, int binary)
+{
+    size_t NV = b->nv, C = b->corners;
+    int has_uv = b->has_uv, has_tan = b->has_tan;
     char a[6][32];
     for (int k = 0; k < 3; k++) {
-        json_num(a[k], sizeof a[k], NV ? mn[k] : 0.0);
-        json_num(a[3 + k], sizeof a[3 + k], NV ? mx[k] : 0.0);
+        json_num(a[k], sizeof a[k], NV ? b->mn[k] : 0.0);
+        json_num(a[3 + k], sizeof a[3 + k], NV ? b->mx[k] : 0.0);
     }
-    sb_add(&js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"%s\"},", d->generator);
-    sb_add(&js, "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],");
+    sb_add(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"%s\"},", d->generator);
+    sb_add(js, "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],");
     int acc = 0;
     int ip = acc++, in = acc++, it = has_tan ? acc++ : -1, iu = has_uv ? acc++ : -1, ii = acc++;
-    sb_add(&js, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d", ip,
+    sb_add(js, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d", ip,
            in);
     if (has_tan)
-        sb_add(&js, ",\"TANGENT\":%d", it);
+        sb_add(js, ",\"TANGENT\":%d", it);
     if (has_uv)
-        sb_add(&js, ",\"TEXCOORD_0\":%d", iu);
-    sb_add(&js, "},\"indices\":%d,\"mode\":4}]}],", ii);
-    sb_add(&js, "\"accessors\":[");
-    sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
-                "\"min\":[%s,%s,%s],\"max\":[%s,%s,%s]},",
+        sb_add(js, ",\"TEXCOORD_0\":%d", iu);
+    sb_add(js, "},\"indices\":%d,\"mode\":4}]}],", ii);
+    sb_add(js, "\"accessors\":[");
+    sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
+               "\"min\":[%s,%s,%s],\"max\":[%s,%s,%s]},",
            ip, NV, a[0], a[1], a[2], a[3], a[4], a[5]);
-    sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"},", in,
+    sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"},", in,
            NV);
     if (has_tan)
-        sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"},",
+        sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"},",
                it, NV);
     if (has_uv)
-        sb_add(&js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},",
+        sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},",
                iu, NV);
-    sb_add(&js, "{\"bufferView\":%d,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],",
+    sb_add(js, "{\"bufferView\":%d,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],",
            ii, C);
-    sb_add(&js, "\"bufferViews\":[");
-    sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", off_p,
+    sb_add(js, "\"bufferViews\":[");
+    sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", b->off_p,
            12 * NV);
-    sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", off_n,
+    sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", b->off_n,
            12 * NV);
     if (has_tan)
-        sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
-               off_t, 16 * NV);
+        sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
+               b->off_t, 16 * NV);
     if (has_uv)
-        sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
-               off_uv, 8 * NV);
-    sb_add(&js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}],", off_i,
+        sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
+               b->off_uv, 8 * NV);
+    sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}],", b->off_i,
            4 * C);
     if (binary) {
-        sb_add(&js, "\"buffers\":[{\"byteLength\":%zu}]}", blen);
+        sb_add(js, "\"buffers\":[{\"byteLength\":%zu}]}", b->len);
     } else {
-        sb_add(&js, "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,",
-               blen);
+        sb_add(js, "\"buffers\":[{\"byteLength\":%zu,\"uri\":\"data:application/octet-stream;base64,",
+               b->len);
     }
+}
+
+/* .glb: the 12-byte header, the JSON chunk (padded with blanks) and the BIN
+ * chunk (padded with zeros). */
+static bg_status write_glb(FILE *fp, const sbuf *js, const unsigned char *bin, size_t blen,
+                           bgt_err *e)
+{
+    size_t jpad = (4 - js->n % 4) % 4, bpad = (4 - blen % 4) % 4;
+    size_t total = 12 + 8 + js->n + jpad + 8 + blen + bpad;
+    if (total > UINT32_MAX)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "mesh too large for .glb (%zu bytes)", total);
+    int werr = 0;
+    unsigned char h[20];
+    memcpy(h, "glTF", 4);
+    put_u32(h + 4, 2);
+    put_u32(h + 8, (uint32_t)total);
+    put_u32(h + 12, (uint32_t)(js->n + jpad));
+    memcpy(h + 16, "JSON", 4);
+    werr |= fwrite(h, 1, 20, fp) != 20;
+    werr |= fwrite(js->p, 1, js->n, fp) != js->n;
+    werr |= fwrite("   ", 1, jpad, fp) != jpad;
+    put_u32(h, (uint32_t)(blen + bpad));
+    memcpy(h + 4, "BIN\0", 4);
+    werr |= fwrite(h, 1, 8, fp) != 8;
+    werr |= fwrite(bin, 1, blen, fp) != blen;
+    werr |= fwrite("\0\0\0", 1, bpad, fp) != bpad;
+    return werr ? bgt_fail(e, BG_ERR_IO, "write error") : BG_OK;
+}
+
+/* .gltf: the JSON with the buffer as its base64 data URI. */
+static bg_status write_gltf_text(FILE *fp, const sbuf *js, const unsigned char *bin, size_t blen,
+                                 bgt_err *e)
+{
+    int werr = 0;
+    werr |= fwrite(js->p, 1, js->n, fp) != js->n;
+    werr |= write_base64(fp, bin, blen) != 0;
+    werr |= fputs("\"}]}\n", fp) == EOF;
+    return werr ? bgt_fail(e, BG_ERR_IO, "write error") : BG_OK;
+}
+
+bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *e)
+{
+    size_t T = d->triangle_count, C = 3 * T;
+    ckey *keys = malloc((C ? C : 1) * sizeof *keys);
+    uint32_t *newidx = malloc((C ? C : 1) * sizeof *newidx);
+    uint32_t *src = malloc((C ? C : 1) * sizeof *src); /* new vertex -> a corner */
+    unsigned char *bin = NULL;
+    sbuf js = {0};
+    bg_status rc = BG_OK;
+    if (!keys || !newidx || !src) {
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF of %zu triangles", T);
+        goto done;
+    }
+    size_t NV = split_vertices(d, C, keys, newidx, src);
+    if (NV > UINT32_MAX) {
+        rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "too many vertices for glTF (%zu)", NV);
+        goto done;
+    }
+    gltf_buf b = buf_layout(d, NV, C);
+    bin = malloc(b.len ? b.len : 1);
+    if (!bin) {
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF buffer (%zu bytes)",
+                      b.len);
+        goto done;
+    }
+    fill_buffer(d, newidx, src, &b, bin);
+    gltf_json(&js, d, &b, binary);
     if (js.oom) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF JSON");
         goto done;
     }
-    int werr = 0;
-    if (binary) {
-        size_t jpad = (4 - js.n % 4) % 4, bpad = (4 - blen % 4) % 4;
-        size_t total = 12 + 8 + js.n + jpad + 8 + blen + bpad;
-        if (total > UINT32_MAX) {
-            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "mesh too large for .glb (%zu bytes)", total);
-            goto done;
-        }
-        unsigned char h[20];
-        memcpy(h, "glTF", 4);
-        put_u32(h + 4, 2);
-        put_u32(h + 8, (uint32_t)total);
-        put_u32(h + 12, (uint32_t)(js.n + jpad));
-        memcpy(h + 16, "JSON", 4);
-        werr |= fwrite(h, 1, 20, fp) != 20;
-        werr |= fwrite(js.p, 1, js.n, fp) != js.n;
-        werr |= fwrite("   ", 1, jpad, fp) != jpad;
-        put_u32(h, (uint32_t)(blen + bpad));
-        memcpy(h + 4, "BIN\0", 4);
-        werr |= fwrite(h, 1, 8, fp) != 8;
-        werr |= fwrite(bin, 1, blen, fp) != blen;
-        werr |= fwrite("\0\0\0", 1, bpad, fp) != bpad;
-    } else {
-        werr |= fwrite(js.p, 1, js.n, fp) != js.n;
-        werr |= write_base64(fp, bin, blen) != 0;
-        werr |= fputs("\"}]}\n", fp) == EOF;
-    }
-    if (werr)
-        rc = bgt_fail(e, BG_ERR_IO, "write error");
+    rc = binary ? write_glb(fp, &js, bin, b.len, e) : write_gltf_text(fp, &js, bin, b.len, e);
 done:
     free(keys);
     free(newidx);
