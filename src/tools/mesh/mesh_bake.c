@@ -298,6 +298,162 @@ static size_t udim_tiles(const bg_mesh *m, int *tiles, size_t *wanted)
     return n > MESH_UDIM_MAX_TILES ? (size_t)-1 : n;
 }
 
+/* The tiles to bake: 1001 alone, or with o->udim those the UVs touch. */
+static bg_status choose_tiles(const bg_mesh *m, const mesh_bake_opts *o,
+                              int tiles[MESH_UDIM_MAX_TILES], size_t *ntiles, bgt_err *e)
+{
+    size_t wanted = 0;
+    *ntiles = 1;
+    tiles[0] = 1001;
+    if (!o->udim)
+        return BG_OK;
+    *ntiles = udim_tiles(m, tiles, &wanted);
+    if (*ntiles == (size_t)-2)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UDIM tiles");
+    if (*ntiles == (size_t)-1)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "the UVs span %zu UDIM tiles; at most %d are baked (each tile is a "
+                        "full %dx%d bake)",
+                        wanted, MESH_UDIM_MAX_TILES, o->width, o->height);
+    if (*ntiles == 0)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "no triangle has UVs in the UDIM range (u in [0, 10), v in [0, %d)): "
+                        "nothing to bake",
+                        MESH_UDIM_V_TILES);
+    return BG_OK;
+}
+
+/* The tangent frame of every corner (4 floats: xyz and the bitangent sign)
+ * for a tangent-space bake: the file's per-vertex frames, as a renderer
+ * given them uses them, or mikkTSpace's. *ctan stays NULL in object space. */
+static bg_status corner_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                                 const float *nz, const mesh_bake_opts *o, float **ctan,
+                                 mesh_bake_stats *stats, bgt_err *e)
+{
+    size_t C = 3 * m->triangle_count;
+    *ctan = NULL;
+    if (o->space != MESH_BAKE_TANGENT)
+        return BG_OK;
+    float *t = malloc((C ? C : 1) * 4 * sizeof *t);
+    if (!t)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the tangents of %zu corners", C);
+    if (o->tangents == MESH_TANGENTS_FILE) {
+        for (size_t c = 0; c < C; c++) {
+            uint32_t i = m->indices[c];
+            t[4 * c] = m->tx[i], t[4 * c + 1] = m->ty[i], t[4 * c + 2] = m->tz[i];
+            t[4 * c + 3] = m->tw[i] < 0.0f ? -1.0f : 1.0f;
+        }
+    } else {
+        bgt_mikk_mesh mm = {m->vertex_count, m->triangle_count, m->indices, m->px, m->py,
+                            m->pz, nx, ny, nz, m->u, m->v};
+        bg_status rc = bgt_mikk_tangents(&mm, t, &stats->mikk);
+        if (rc != BG_OK) {
+            free(t);
+            return bgt_fail(e, rc, "mikkTSpace tangents failed (%s)", bg_status_string(rc));
+        }
+    }
+    *ctan = t;
+    return BG_OK;
+}
+
+/* The per-texel buffers of one tile (bake_ctx points to tri, b1, b2, vec). */
+typedef struct bake_bufs {
+    int32_t *tri;
+    float *b1, *b2, *vec;
+    uint16_t *level;
+    uint8_t *multi, *overlapped; /* overlapped: per island, over all tiles */
+    bg_image img;
+} bake_bufs;
+
+static int bufs_alloc(bake_bufs *b, int W, int H, size_t islands)
+{
+    size_t npix = (size_t)W * (size_t)H;
+    b->tri = malloc(npix * sizeof *b->tri);
+    b->b1 = malloc(npix * sizeof *b->b1), b->b2 = malloc(npix * sizeof *b->b2);
+    b->vec = malloc(npix * 3 * sizeof *b->vec);
+    b->level = malloc(npix * sizeof *b->level);
+    b->overlapped = calloc(islands ? islands : 1, 1);
+    b->multi = malloc(npix);
+    return b->tri && b->b1 && b->b2 && b->vec && b->level && b->overlapped && b->multi &&
+           bg_image_alloc(&b->img, W, H, 3) == BG_OK;
+}
+
+static void bufs_free(bake_bufs *b)
+{
+    bg_image_free(&b->img);
+    free(b->tri);
+    free(b->b1);
+    free(b->b2);
+    free(b->vec);
+    free(b->level);
+    free(b->multi);
+    free(b->overlapped);
+}
+
+/* The texels' vectors as colours, 0.5 v + 0.5; texels that no triangle or
+ * padding reached get the flat vector (+z in tangent space, 0 in object). */
+static void encode_tile(const bake_bufs *b, size_t npix, int tangent, float *pixels)
+{
+    for (size_t k = 0; k < npix; k++) {
+        float v[3];
+        if (b->level[k]) {
+            v[0] = b->vec[3 * k], v[1] = b->vec[3 * k + 1], v[2] = b->vec[3 * k + 2];
+        } else {
+            v[0] = 0.0f, v[1] = 0.0f, v[2] = tangent ? 1.0f : 0.0f;
+        }
+        for (int ch = 0; ch < 3; ch++)
+            pixels[3 * k + (size_t)ch] = 0.5f * v[ch] + 0.5f;
+    }
+}
+
+/* One tile into b->img: rasterize the UVs, shade the covered texels (in
+ * parallel), pad, encode. *empty when a UDIM tile has no covered texel (its
+ * bounding box touched the tile, no texel centre is inside): nothing to
+ * write. first: the tile whose skipped-triangle count goes to stats (the
+ * same for every tile). */
+static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *c, bake_bufs *b,
+                           const uint32_t *island, int tile, int first, int *empty,
+                           mesh_bake_stats *stats, bgt_err *e)
+{
+    int W = o->width, H = o->height;
+    size_t npix = (size_t)W * (size_t)H;
+    double u0 = (double)((tile - 1001) % 10), v0 = (double)((tile - 1001) / 10);
+    for (size_t k = 0; k < npix; k++)
+        b->tri[k] = -1;
+    memset(b->vec, 0, npix * 3 * sizeof *b->vec);
+    memset(b->level, 0, npix * sizeof *b->level);
+    memset(b->multi, 0, npix);
+    size_t skipped = 0, covered = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        if (!mesh_triangle_usable(m, t) ||
+            !raster_triangle(m, t, u0, v0, W, H, b->tri, b->b1, b->b2, island, b->overlapped,
+                             b->multi))
+            skipped++;
+    }
+    if (first)
+        stats->skipped = skipped;
+    for (size_t k = 0; k < npix; k++)
+        covered += b->tri[k] >= 0;
+    *empty = o->udim && covered == 0;
+    if (*empty) {
+        atomic_fetch_add(&c->done, npix);
+        return BG_OK;
+    }
+    for (size_t k = 0; k < npix; k++)
+        stats->overlap_texels += b->multi[k] & 1;
+
+    size_t rows = (size_t)(16384 / W) + 1;
+    bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, c);
+    if (atomic_load(&c->oom))
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
+    for (size_t k = 0; k < npix; k++)
+        b->level[k] = b->tri[k] >= 0;
+    stats->covered += covered;
+    stats->padded += pad(b->vec, b->level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+    encode_tile(b, npix, o->space == MESH_BAKE_TANGENT, b->img.pixels);
+    return BG_OK;
+}
+
 bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
                     const bgt_height *h, const mesh_bake_opts *o, mesh_bake_sink sink,
                     void *sink_ctx, mesh_bake_stats *stats, bgt_err *e)
@@ -312,29 +468,12 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     if (rc != BG_OK)
         return rc;
     int tiles[MESH_UDIM_MAX_TILES];
-    size_t ntiles = 1, wanted = 0;
-    tiles[0] = 1001;
-    if (o->udim) {
-        ntiles = udim_tiles(m, tiles, &wanted);
-        if (ntiles == (size_t)-2)
-            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UDIM tiles");
-        if (ntiles == (size_t)-1)
-            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
-                            "the UVs span %zu UDIM tiles; at most %d are baked (each tile is a "
-                            "full %dx%d bake)",
-                            wanted, MESH_UDIM_MAX_TILES, W, H);
-        if (ntiles == 0)
-            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
-                            "no triangle has UVs in the UDIM range (u in [0, 10), v in [0, %d)): "
-                            "nothing to bake",
-                            MESH_UDIM_V_TILES);
-    }
+    size_t ntiles;
+    if ((rc = choose_tiles(m, o, tiles, &ntiles, e)) != BG_OK)
+        return rc;
 
-    size_t C = 3 * m->triangle_count;
     float *ctan = NULL;
     uint32_t *island = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *island);
-    uint8_t *overlapped = NULL, *multi = NULL;
-    bg_image img = {0, 0, 0, NULL};
     if (!island)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
     stats->islands = mesh_uv_islands(m->triangle_count, m->indices, m->u, m->v, island);
@@ -342,113 +481,40 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         free(island);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
     }
-    if (o->space == MESH_BAKE_TANGENT) {
-        ctan = malloc((C ? C : 1) * 4 * sizeof *ctan);
-        if (!ctan) {
-            free(island);
-            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the tangents of %zu corners",
-                            C);
-        }
-        if (o->tangents == MESH_TANGENTS_FILE) {
-            /* the file's per-vertex frames, as a renderer given them uses them */
-            for (size_t c = 0; c < C; c++) {
-                uint32_t i = m->indices[c];
-                ctan[4 * c] = m->tx[i], ctan[4 * c + 1] = m->ty[i], ctan[4 * c + 2] = m->tz[i];
-                ctan[4 * c + 3] = m->tw[i] < 0.0f ? -1.0f : 1.0f;
-            }
-        } else {
-            bgt_mikk_mesh mm = {m->vertex_count, m->triangle_count, m->indices, m->px, m->py,
-                                m->pz, nx, ny, nz, m->u, m->v};
-            rc = bgt_mikk_tangents(&mm, ctan, &stats->mikk);
-            if (rc != BG_OK) {
-                free(ctan);
-                free(island);
-                return bgt_fail(e, rc, "mikkTSpace tangents failed (%s)", bg_status_string(rc));
-            }
-        }
+    if ((rc = corner_tangents(m, nx, ny, nz, o, &ctan, stats, e)) != BG_OK) {
+        free(island);
+        return rc;
     }
 
     bgt_progress_begin(o->progress, "bake", ntiles * npix);
-    int32_t *tri = malloc(npix * sizeof *tri);
-    float *b1 = malloc(npix * sizeof *b1), *b2 = malloc(npix * sizeof *b2);
-    float *vec = malloc(npix * 3 * sizeof *vec);
-    uint16_t *level = malloc(npix * sizeof *level);
-    overlapped = calloc(stats->islands ? stats->islands : 1, 1);
-    multi = malloc(npix);
-    if (!tri || !b1 || !b2 || !vec || !level || !overlapped || !multi ||
-        bg_image_alloc(&img, W, H, 3) != BG_OK) {
+    bake_bufs b = {0};
+    if (!bufs_alloc(&b, W, H, stats->islands)) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d bake", W, H);
         goto done;
     }
     bake_ctx c = {.m = m, .nx = nx, .ny = ny, .nz = nz,
                   .ctan = ctan, .green_down = o->green_down,
-                  .h = h, .method = o->method, .width = W, .tri = tri, .b1 = b1, .b2 = b2,
-                  .vec = vec, .progress = o->progress};
+                  .h = h, .method = o->method, .width = W, .tri = b.tri, .b1 = b.b1, .b2 = b.b2,
+                  .vec = b.vec, .progress = o->progress};
     atomic_init(&c.oom, 0);
     atomic_init(&c.done, 0);
     for (size_t ti = 0; ti < ntiles; ti++) {
-        double u0 = (double)((tiles[ti] - 1001) % 10), v0 = (double)((tiles[ti] - 1001) / 10);
-        for (size_t k = 0; k < npix; k++)
-            tri[k] = -1;
-        memset(vec, 0, npix * 3 * sizeof *vec);
-        memset(level, 0, npix * sizeof *level);
-        memset(multi, 0, npix);
-        size_t skipped = 0, covered = 0;
-        for (size_t t = 0; t < m->triangle_count; t++) {
-            if (!mesh_triangle_usable(m, t) ||
-                !raster_triangle(m, t, u0, v0, W, H, tri, b1, b2, island, overlapped, multi))
-                skipped++;
-        }
-        if (ti == 0)
-            stats->skipped = skipped; /* per triangle, the same for every tile */
-        for (size_t k = 0; k < npix; k++)
-            covered += tri[k] >= 0;
-        if (o->udim && covered == 0) {
-            /* the bounding box touched the tile, no texel centre is inside */
-            atomic_fetch_add(&c.done, npix);
-            continue;
-        }
-        for (size_t k = 0; k < npix; k++)
-            stats->overlap_texels += multi[k] & 1;
-
-        size_t rows = (size_t)(16384 / W) + 1;
-        bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, &c);
-        if (atomic_load(&c.oom)) {
-            rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
+        int empty = 0;
+        rc = bake_tile(m, o, &c, &b, island, tiles[ti], ti == 0, &empty, stats, e);
+        if (rc != BG_OK)
             goto done;
-        }
-        for (size_t k = 0; k < npix; k++)
-            level[k] = tri[k] >= 0;
-        stats->covered += covered;
-        stats->padded += pad(vec, level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
-
-        for (size_t k = 0; k < npix; k++) {
-            float v[3];
-            if (level[k]) {
-                v[0] = vec[3 * k], v[1] = vec[3 * k + 1], v[2] = vec[3 * k + 2];
-            } else {
-                v[0] = 0.0f, v[1] = 0.0f, v[2] = o->space == MESH_BAKE_TANGENT ? 1.0f : 0.0f;
-            }
-            for (int ch = 0; ch < 3; ch++)
-                img.pixels[3 * k + (size_t)ch] = 0.5f * v[ch] + 0.5f;
-        }
-        if ((rc = sink(sink_ctx, tiles[ti], &img, e)) != BG_OK)
+        if (empty)
+            continue;
+        if ((rc = sink(sink_ctx, tiles[ti], &b.img, e)) != BG_OK)
             goto done;
         stats->tile_udim[stats->tiles++] = tiles[ti];
     }
     for (size_t i = 0; i < stats->islands; i++)
-        stats->overlap_islands += overlapped[i];
+        stats->overlap_islands += b.overlapped[i];
 done:
     bgt_progress_end(o->progress);
-    bg_image_free(&img);
-    free(tri);
-    free(b1);
-    free(b2);
-    free(vec);
-    free(level);
+    bufs_free(&b);
     free(ctan);
     free(island);
-    free(overlapped);
-    free(multi);
     return rc;
 }
