@@ -18,8 +18,10 @@
  * coordinates and results) to bake boxes far larger than memory allows densely. */
 #define VOL_BATCH ((size_t)1 << 20)
 #define VOL_CHUNK 4096
-/* Refuse bakes above this many active voxels: OpenVDB needs about 16 bytes per
- * voxel for the two grids, so 2^28 voxels is already about 4 GB. */
+/* Refuse bakes above this many voxels (and band rows to visit). A count, not
+ * the memory bound: a full leaf costs about 16 bytes per voxel for the two
+ * grids (2^28 voxels: about 4 GB), but a thin box fills each 8^3 leaf with
+ * few voxels, so check_memory bounds the leaves against the allocation cap. */
 #define VOL_MAX_VOXELS ((uint64_t)1 << 28)
 
 /* The option spelling of the CLI, for the grid metadata. */
