@@ -188,8 +188,6 @@ static void label(render_canvas *c, int x, int y, int size, const char *text, co
                        size / 8 > 0 ? size / 8 : 1, col);
 }
 
-/* The panel: one column per method; row 1 the renders, row 2 (optional) the
- * magnified crops, last row the heat maps of the error against surfgrad. */
 /* Greedy word wrap of the parameter stamp into at most 4 lines of `maxc` characters. */
 static int wrap_stamp(const char *text, int maxc, char lines[4][256])
 {
@@ -229,11 +227,119 @@ static int stamp_chars(int w, int size)
     return w / (bitmap > freetype ? bitmap : freetype);
 }
 
+/* The close-up: a crop of 1/closeup of the image, magnified closeup times
+ * (never past its cell on tiny images). */
+typedef struct closeup_rect {
+    int kw, kh, kx, ky, mag;
+} closeup_rect;
+
+static closeup_rect closeup_of(int W, int H, int closeup)
+{
+    closeup_rect r = {W / closeup, H / closeup, 0, 0, closeup};
+    if (r.kw < 1)
+        r.kw = 1;
+    if (r.kh < 1)
+        r.kh = 1;
+    if (r.kw * r.mag > W)
+        r.mag = W / r.kw;
+    if (r.kh * r.mag > H)
+        r.mag = H / r.kh;
+    /* Right of and below the centre: half-lit (the detail reads best away
+     * from the highlight) and away from the silhouette. */
+    r.kx = (int)(0.40 * W) - r.kw / 2, r.ky = (int)(0.56 * H) - r.kh / 2;
+    /* A large crop (--closeup 1 or 2) would start left of or end below the
+     * image: keep it inside (it read outside the buffer once). */
+    if (r.kx > W - r.kw)
+        r.kx = W - r.kw;
+    if (r.ky > H - r.kh)
+        r.ky = H - r.kh;
+    if (r.kx < 0)
+        r.kx = 0;
+    if (r.ky < 0)
+        r.ky = 0;
+    return r;
+}
+
+static const float panel_bg[3] = {0.0f, 0.0f, 0.0f}, panel_fg[3] = {0.85f, 0.85f, 0.85f};
+static const float inward_color[3] = {0.0f, 0.85f, 1.0f};
+
+/* Method m's heat map: the angle to the reference on the heat ramp, black
+ * where there is none, and the pixels with an inward perturbed normal
+ * (dot(n', n) <= 0, the failure of Figure 2a) in cyan, a colour the ramp
+ * never takes. */
+static void heat_image(const render_opts *o, const render_job *job, int m, float *heat)
+{
+    const int W = job->width, H = job->height_px;
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+        float e = job->heat[m][i];
+        if (e == e)
+            render_heat_color(e, o->heat_max, heat + i * 3);
+        else
+            memcpy(heat + i * 3, panel_bg, sizeof panel_bg);
+    }
+    const int ss = job->ss;
+    const size_t SW = (size_t)W * ss;
+    for (size_t g = 0; g < job->nsamples; g++)
+        if (job->inward[m][g]) {
+            size_t px = (g % SW) / (size_t)ss, py = (g / SW) / (size_t)ss;
+            memcpy(heat + (py * W + px) * 3, inward_color, sizeof inward_color);
+        }
+}
+
+/* The heat map's caption, as long as the column's width allows. */
+static void error_caption(char *text, size_t n, int W, const render_stats *st)
+{
+    if (W >= 192)
+        snprintf(text, n, "error %.2f deg, inward %.1f%%", st->mean_deg,
+                 100.0 * st->inward_fraction);
+    else if (W >= 128)
+        snprintf(text, n, "%.2f deg, inward %.1f%%", st->mean_deg, 100.0 * st->inward_fraction);
+    else
+        snprintf(text, n, "%.1f, %.1f%%", st->mean_deg, 100.0 * st->inward_fraction);
+}
+
+/* The colour bar at (x0, y0), bw wide: 0 .. heat_max degrees of angle to
+ * the reference, ticks at 0, 1/4, .. 1 of the range with their values, and
+ * the caption. */
+static void colour_bar(const render_opts *o, render_canvas *c, int x0, int y0, int bw, int fsz,
+                       const char *ref_name)
+{
+    const int lab = fsz + 6;
+    char text[128];
+    for (int i = 0; i < bw; i++) {
+        float col[3];
+        render_heat_color((float)i / (float)(bw - 1) * o->heat_max, o->heat_max, col);
+        for (int j = 0; j < 8; j++)
+            memcpy(c->rgb + ((size_t)(y0 + j) * c->w + x0 + i) * 3, col, sizeof col);
+    }
+    for (int k = 0; k <= 4; k++) {
+        int tx = x0 + (int)lround((double)(bw - 1) * k / 4.0);
+        for (int j = 8; j < 12; j++)
+            for (int dx = 0; dx < 2; dx++) {
+                int px = tx + (k == 4 ? -dx : dx);
+                if (px < 0 || px >= c->w || y0 + j >= c->h)
+                    continue;
+                float *dst = c->rgb + ((size_t)(y0 + j) * (size_t)c->w + (size_t)px) * 3;
+                dst[0] = panel_fg[0], dst[1] = panel_fg[1], dst[2] = panel_fg[2];
+            }
+        snprintf(text, sizeof text, "%g", (double)o->heat_max * k / 4.0);
+        int w = render_text_width(text, fsz / 8 > 0 ? fsz / 8 : 1);
+        int lx = k == 0 ? tx : k == 4 ? tx - w : tx - w / 2;
+        label(c, lx, y0 + 12, fsz, text, panel_fg);
+    }
+    snprintf(text, sizeof text, "angle to %s (deg)", ref_name);
+    int tw = render_text_width(text, 1);
+    label(c, x0, y0 + 12 + lab, fsz, text, panel_fg);
+    if (bw > 2 * tw * fsz / 8 + 80)
+        label(c, x0 + bw / 2, y0 + 12 + lab, fsz, "cyan: inward", inward_color);
+}
+
+/* The panel: one column per method; row 1 the renders, row 2 (optional) the
+ * magnified crops, last row the heat maps of the error against the
+ * reference; under them the colour bar and the parameter stamp. */
 static bg_status compose_panel(const render_opts *o, const render_job *job, const render_stats *st,
                                const char *stamp, const char *ref_name, render_canvas *c, bgt_err *e)
 {
-    static const float bgc[3] = {0.0f, 0.0f, 0.0f}, fg[3] = {0.85f, 0.85f, 0.85f};
-    static const float inward_color[3] = {0.0f, 0.85f, 1.0f};
     const int W = job->width, H = job->height_px, n = job->nmethods;
     const int fsz = W >= 256 ? 16 : W >= 128 ? 10 : 8; /* label font height in pixels */
     const int pad = 4, lab = fsz + 6, rows = o->closeup ? 3 : 2;
@@ -244,36 +350,14 @@ static bg_status compose_panel(const render_opts *o, const render_job *job, cons
     char lines[4][256];
     const int stamp_size = fsz >= 16 ? 12 : 8, stamp_lab = stamp_size + 4;
     const int nlines = stamp ? wrap_stamp(stamp, stamp_chars(n * cw - pad, stamp_size), lines) : 0;
-    if (render_canvas_alloc(c, n * cw + pad, rows * ch + pad + bar + nlines * stamp_lab, bgc))
+    if (render_canvas_alloc(c, n * cw + pad, rows * ch + pad + bar + nlines * stamp_lab, panel_bg))
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     float *heat = malloc((size_t)W * H * 3 * sizeof(float));
     float *crop = NULL;
-    int kw = 0, kh = 0, kx = 0, ky = 0, mag = o->closeup;
+    closeup_rect k = {0, 0, 0, 0, 0};
     if (o->closeup) {
-        kw = W / o->closeup, kh = H / o->closeup;
-        if (kw < 1)
-            kw = 1;
-        if (kh < 1)
-            kh = 1;
-        /* Tiny images: never magnify a crop past its cell. */
-        if (kw * mag > W)
-            mag = W / kw;
-        if (kh * mag > H)
-            mag = H / kh;
-        /* Right of and below the centre: half-lit (the detail reads best away
-         * from the highlight) and away from the silhouette. */
-        kx = (int)(0.40 * W) - kw / 2, ky = (int)(0.56 * H) - kh / 2;
-        /* A large crop (--closeup 1 or 2) would start left of or end below the
-         * image: keep it inside (it read outside the buffer once). */
-        if (kx > W - kw)
-            kx = W - kw;
-        if (ky > H - kh)
-            ky = H - kh;
-        if (kx < 0)
-            kx = 0;
-        if (ky < 0)
-            ky = 0;
-        crop = malloc((size_t)kw * kh * 3 * sizeof(float));
+        k = closeup_of(W, H, o->closeup);
+        crop = malloc((size_t)k.kw * k.kh * 3 * sizeof(float));
     }
     if (!heat || (o->closeup && !crop)) {
         free(heat);
@@ -285,77 +369,28 @@ static bg_status compose_panel(const render_opts *o, const render_job *job, cons
     for (int m = 0; m < n; m++) {
         int x = pad + m * cw, y = pad;
         snprintf(text, sizeof text, "(%c) %s", 'a' + m, render_method_name(job->methods[m]));
-        label(c, x, y, fsz, text, fg);
+        label(c, x, y, fsz, text, panel_fg);
         render_canvas_blit(c, x, y + lab, job->rgb[m], W, H, 1);
         y += ch;
         if (o->closeup) {
-            for (int j = 0; j < kh; j++)
-                memcpy(crop + (size_t)j * kw * 3, job->rgb[m] + ((size_t)(ky + j) * W + kx) * 3,
-                       (size_t)kw * 3 * sizeof(float));
-            snprintf(text, sizeof text, "(%c) close-up x%d", 'a' + n + m, mag);
-            label(c, x, y, fsz, text, fg);
-            render_canvas_blit(c, x, y + lab, crop, kw, kh, mag);
+            for (int j = 0; j < k.kh; j++)
+                memcpy(crop + (size_t)j * k.kw * 3,
+                       job->rgb[m] + ((size_t)(k.ky + j) * W + k.kx) * 3,
+                       (size_t)k.kw * 3 * sizeof(float));
+            snprintf(text, sizeof text, "(%c) close-up x%d", 'a' + n + m, k.mag);
+            label(c, x, y, fsz, text, panel_fg);
+            render_canvas_blit(c, x, y + lab, crop, k.kw, k.kh, k.mag);
             y += ch;
         }
-        for (size_t i = 0; i < (size_t)W * H; i++) {
-            float e = job->heat[m][i];
-            if (e == e)
-                render_heat_color(e, o->heat_max, heat + i * 3);
-            else
-                memcpy(heat + i * 3, bgc, sizeof bgc);
-        }
-        /* Pixels with an inward perturbed normal (dot(n', n) <= 0, the failure
-         * of Figure 2a) in cyan, a colour the heat ramp never takes. */
-        const int ss = job->ss;
-        const size_t SW = (size_t)W * ss;
-        for (size_t g = 0; g < job->nsamples; g++)
-            if (job->inward[m][g]) {
-                size_t px = (g % SW) / (size_t)ss, py = (g / SW) / (size_t)ss;
-                memcpy(heat + (py * W + px) * 3, inward_color, sizeof inward_color);
-            }
-        if (W >= 192)
-            snprintf(text, sizeof text, "error %.2f deg, inward %.1f%%", st[m].mean_deg,
-                     100.0 * st[m].inward_fraction);
-        else if (W >= 128)
-            snprintf(text, sizeof text, "%.2f deg, inward %.1f%%", st[m].mean_deg,
-                     100.0 * st[m].inward_fraction);
-        else
-            snprintf(text, sizeof text, "%.1f, %.1f%%", st[m].mean_deg,
-                     100.0 * st[m].inward_fraction);
-        label(c, x, y, fsz, text, fg);
+        heat_image(o, job, m, heat);
+        error_caption(text, sizeof text, W, &st[m]);
+        label(c, x, y, fsz, text, panel_fg);
         render_canvas_blit(c, x, y + lab, heat, W, H, 1);
     }
-    /* The colour bar: 0 .. heat_max degrees of angle to analytic surfgrad. */
-    int y0 = rows * ch + pad, x0 = pad, bw = n * cw - pad;
-    for (int i = 0; i < bw; i++) {
-        float col[3];
-        render_heat_color((float)i / (float)(bw - 1) * o->heat_max, o->heat_max, col);
-        for (int j = 0; j < 8; j++)
-            memcpy(c->rgb + ((size_t)(y0 + j) * c->w + x0 + i) * 3, col, sizeof col);
-    }
-    /* Ticks at 0, 1/4, .. 1 of the range, with their values. */
-    for (int k = 0; k <= 4; k++) {
-        int tx = x0 + (int)lround((double)(bw - 1) * k / 4.0);
-        for (int j = 8; j < 12; j++)
-            for (int dx = 0; dx < 2; dx++) {
-                int px = tx + (k == 4 ? -dx : dx);
-                if (px < 0 || px >= c->w || y0 + j >= c->h)
-                    continue;
-                float *dst = c->rgb + ((size_t)(y0 + j) * (size_t)c->w + (size_t)px) * 3;
-                dst[0] = fg[0], dst[1] = fg[1], dst[2] = fg[2];
-            }
-        snprintf(text, sizeof text, "%g", (double)o->heat_max * k / 4.0);
-        int w = render_text_width(text, fsz / 8 > 0 ? fsz / 8 : 1);
-        int lx = k == 0 ? tx : k == 4 ? tx - w : tx - w / 2;
-        label(c, lx, y0 + 12, fsz, text, fg);
-    }
-    snprintf(text, sizeof text, "angle to %s (deg)", ref_name);
-    int tw = render_text_width(text, 1);
-    label(c, x0, y0 + 12 + lab, fsz, text, fg);
-    if (bw > 2 * tw * fsz / 8 + 80)
-        label(c, x0 + bw / 2, y0 + 12 + lab, fsz, "cyan: inward", inward_color);
+    const int y0 = rows * ch + pad, x0 = pad, bw = n * cw - pad;
+    colour_bar(o, c, x0, y0, bw, fsz, ref_name);
     for (int i = 0; i < nlines; i++)
-        label(c, x0, y0 + bar + i * stamp_lab, stamp_size, lines[i], fg);
+        label(c, x0, y0 + bar + i * stamp_lab, stamp_size, lines[i], panel_fg);
     free(heat);
     free(crop);
     return BG_OK;
