@@ -137,122 +137,148 @@ static void to_derivative_map(const bg_image *in, int y_down, float *out)
     }
 }
 
-bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
+/* The options that need no file: bits (0 becomes the default: float for
+ * --to-derivative, else 8), strength, and the output's format and depth. */
+static bg_status check_opts(const bgt_heightmap_opts *o, int *bits, bgt_err *e)
 {
-    if (!o || !o->input || !o->output)
-        return bgt_fail(e, BG_ERR_NULL_POINTER, "expected IN OUT");
-    bg_status ready = bgt_io_ready(e);
-    if (ready != BG_OK)
-        return ready;
-    const char *in_path = o->input, *out_path = o->output;
-    const int seed_gray = o->gray == BGT_GRAY_SEED, wrap = o->wrap, y_down = o->y_down,
-              to_deriv = o->to_derivative;
-    const float strength = o->strength;
-    int bits = o->bits;
-    if (bits != 0 && bits != 8 && bits != 16 && bits != 32)
+    const char *out_path = o->output;
+    *bits = o->bits;
+    if (*bits != 0 && *bits != 8 && *bits != 16 && *bits != 32)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--bits: expected 8, 16 or float, got %d",
-                        bits);
-    if (!isfinite(strength))
+                        *bits);
+    if (!isfinite(o->strength))
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--strength: must be finite, got %g",
-                        (double)strength);
-    if (bits == 0)
-        bits = to_deriv ? 32 : 8;
-    if (to_deriv && bits != 32)
+                        (double)o->strength);
+    if (*bits == 0)
+        *bits = o->to_derivative ? 32 : 8;
+    if (o->to_derivative && *bits != 32)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "--to-derivative writes float derivatives in [-128, 128]: "
                                     "use --bits float (the default) and an .exr or .tif output");
     char ext[16];
     bg_status st = out_format(out_path, o->format, ext, sizeof ext, e);
     if (st != BG_OK)
         return st;
-    if (bits > max_bits_for(ext))
+    if (*bits > max_bits_for(ext))
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         strcmp(out_path, "-") == 0
                             ? "'%s': %s cannot store %s samples; use --format exr or tif"
                             : "'%s': this format (%s) cannot store %s samples; use .exr or .tif",
-                        out_path, ext, bits == 32 ? "float" : "16-bit");
+                        out_path, ext, *bits == 32 ? "float" : "16-bit");
+    return BG_OK;
+}
 
+/* The input image. Missing, unreadable or not an image: bad input (2); only
+ * running out of memory is a runtime failure (1). Standard input has no
+ * name to tell its format by: say how to give it. */
+static bg_status read_input(const bgt_heightmap_opts *o, bg_image *in, bgt_err *e)
+{
     char err[1024];
-    bg_image in;
-    st = bg_image_read_as(in_path, o->input_format, &in, err, sizeof err);
-    if (st != BG_OK)
-        /* Missing, unreadable or not an image: bad input (2); only running
-         * out of memory is a runtime failure (1). Standard input has no
-         * name to tell its format by: say how to give it. */
-        return bgt_fail(e,
-                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
-                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
-                                                   : BG_ERR_INVALID_ARGUMENT,
-                        "%s%s%s", st == BG_ERR_INVALID_ARGUMENT && o->input_format
-                                          ? "--input-format: " : "", err,
-                        st == BG_ERR_FORMAT && !o->input_format && strcmp(in_path, "-") == 0
-                            ? "; name its format with --input-format FMT (png, tga, exr, ...)"
-                            : "");
+    const char *in_path = o->input;
+    bg_status st = bg_image_read_as(in_path, o->input_format, in, err, sizeof err);
+    if (st == BG_OK)
+        return BG_OK;
+    return bgt_fail(e,
+                    st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
+                    : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
+                                               : BG_ERR_INVALID_ARGUMENT,
+                    "%s%s%s", st == BG_ERR_INVALID_ARGUMENT && o->input_format
+                                      ? "--input-format: " : "", err,
+                    st == BG_ERR_FORMAT && !o->input_format && strcmp(in_path, "-") == 0
+                        ? "; name its format with --input-format FMT (png, tga, exr, ...)"
+                        : "");
+}
 
+/* --to-derivative: a tangent-space normal map into derivatives (3 channels,
+ * every texel finite). */
+static bg_status normals_to_derivs(const bgt_heightmap_opts *o, const bg_image *in, float *out,
+                                   bgt_err *e)
+{
+    if (in->channels < 3)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': a normal map needs 3 channels, this image has %d",
+                        o->input, in->channels);
+    const size_t bad = first_bad_normal(in);
+    if (bad != (size_t)-1)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond float "
+                                  "range: a normal map needs finite values",
+                        o->input, bad % (size_t)in->width, bad / (size_t)in->width);
+    to_derivative_map(in, o->y_down, out);
+    return BG_OK;
+}
+
+/* A height image (its gray value: Rec. 709 luma, or the seed document's
+ * 0.33/0.66/0.11 weights) into a normal map. */
+static bg_status height_to_normals(const bgt_heightmap_opts *o, const bg_image *in, float *out,
+                                   bgt_err *e)
+{
+    const int w = in->width, h = in->height;
+    float *hgt = malloc(sizeof *hgt * (size_t)w * h);
+    if (!hgt)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "'%s': out of memory for a %dx%d image", o->input, w, h);
+    const int seed_gray = o->gray == BGT_GRAY_SEED;
+    const float wr = seed_gray ? 0.33f : 0.2126f, wg = seed_gray ? 0.66f : 0.7152f,
+                wb = seed_gray ? 0.11f : 0.0722f;
+    const int c = in->channels;
+    for (size_t p = 0; p < (size_t)w * h; p++) {
+        const float *s = in->pixels + p * c;
+        hgt[p] = c >= 3 ? wr * s[0] + wg * s[1] + wb * s[2] : s[0];
+    }
+    /* A NaN or Inf height (float input, or a gray sum past FLT_MAX) would
+     * make NaN normals around it: refuse it, naming the first pixel. */
+    for (size_t p = 0; p < (size_t)w * h; p++)
+        if (!isfinite(hgt[p])) {
+            free(hgt);
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond "
+                                      "float range: a height image needs finite values",
+                            o->input, p % (size_t)w, p / (size_t)w);
+        }
+    to_normal_map(hgt, w, h, o->strength, o->wrap, o->y_down, out);
+    free(hgt);
+    return BG_OK;
+}
+
+/* The output at `bits` per sample. A file's format is its extension's
+ * (out_format; the shim takes "exr", ".exr" or "EXR" alike). A file name
+ * without an image format is bad input; only the writing itself failing is
+ * a run failure. */
+static bg_status write_output(const bgt_heightmap_opts *o, const bg_image *out, int bits, bgt_err *e)
+{
+    char err[1024];
+    const char *out_path = o->output;
+    const bg_pixel_type type = bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
+    bg_status st = bg_image_write_as(out_path, strcmp(out_path, "-") == 0 ? o->format : NULL, out,
+                                     type, 0, err, sizeof err);
+    if (st == BG_OK)
+        return BG_OK;
+    return bgt_fail(e,
+                    st == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
+                    : st == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
+                                                  : BG_ERR_IO,
+                    "%s%s", st == BG_ERR_INVALID_ARGUMENT && o->format ? "--format: " : "", err);
+}
+
+bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
+{
+    if (!o || !o->input || !o->output)
+        return bgt_fail(e, BG_ERR_NULL_POINTER, "expected IN OUT");
+    bg_status rc = bgt_io_ready(e);
+    if (rc != BG_OK)
+        return rc;
+    int bits;
+    if ((rc = check_opts(o, &bits, e)) != BG_OK)
+        return rc;
+    bg_image in;
+    if ((rc = read_input(o, &in, e)) != BG_OK)
+        return rc;
     const int w = in.width, h = in.height;
     bg_image out;
     if (bg_image_alloc(&out, w, h, 3) != BG_OK) {
         bg_image_free(&in);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "'%s': out of memory for a %dx%d image", in_path, w, h);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "'%s': out of memory for a %dx%d image", o->input, w, h);
     }
-    bg_status rc = BG_OK;
-    if (to_deriv) {
-        if (in.channels < 3) {
-            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': a normal map needs 3 channels, this image has %d",
-                                 in_path, in.channels);
-            goto done;
-        }
-        const size_t bad = first_bad_normal(&in);
-        if (bad != (size_t)-1) {
-            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond float "
-                                      "range: a normal map needs finite values",
-                                 in_path, bad % (size_t)w, bad / (size_t)w);
-            goto done;
-        }
-        to_derivative_map(&in, y_down, out.pixels);
-    } else {
-        float *hgt = malloc(sizeof *hgt * (size_t)w * h);
-        if (!hgt) {
-            rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "'%s': out of memory for a %dx%d image", in_path, w, h);
-            goto done;
-        }
-        const float wr = seed_gray ? 0.33f : 0.2126f, wg = seed_gray ? 0.66f : 0.7152f,
-                    wb = seed_gray ? 0.11f : 0.0722f;
-        const int c = in.channels;
-        for (size_t p = 0; p < (size_t)w * h; p++) {
-            const float *s = in.pixels + p * c;
-            hgt[p] = c >= 3 ? wr * s[0] + wg * s[1] + wb * s[2] : s[0];
-        }
-        /* A NaN or Inf height (float input, or a gray sum past FLT_MAX) would
-         * make NaN normals around it: refuse it, naming the first pixel. */
-        for (size_t p = 0; p < (size_t)w * h; p++)
-            if (!isfinite(hgt[p])) {
-                free(hgt);
-                rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "'%s': pixel (%zu, %zu) is NaN, infinite or beyond "
-                                          "float range: a height image needs finite values",
-                                     in_path, p % (size_t)w, p / (size_t)w);
-                goto done;
-            }
-        to_normal_map(hgt, w, h, strength, wrap, y_down, out.pixels);
-        free(hgt);
-    }
-    {
-        const bg_pixel_type type =
-            bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
-        /* a file's format is its extension's (out_format); the shim takes
-         * "exr", ".exr" or "EXR" alike */
-        st = bg_image_write_as(out_path, strcmp(out_path, "-") == 0 ? o->format : NULL, &out,
-                               type, 0, err, sizeof err);
-        if (st != BG_OK)
-            /* A file name without an image format is bad input; only the
-             * writing itself failing is a run failure. */
-            rc = bgt_fail(e,
-                          st == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
-                          : st == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
-                                                        : BG_ERR_IO,
-                          "%s%s", st == BG_ERR_INVALID_ARGUMENT && o->format ? "--format: " : "",
-                          err);
-    }
-done:
+    rc = o->to_derivative ? normals_to_derivs(o, &in, out.pixels, e)
+                          : height_to_normals(o, &in, out.pixels, e);
+    if (rc == BG_OK)
+        rc = write_output(o, &out, bits, e);
     bg_image_free(&in);
     bg_image_free(&out);
     return rc;
