@@ -310,148 +310,173 @@ static int tri_finite(const uint32_t *I, const float *vp, size_t nv)
     return ok;
 }
 
-bg_status render_load_mesh(const render_opts *o, render_mesh *m,
-                           render_textures *t, char *desc, size_t desclen, bgt_err *e)
+/* The mesh from --mesh; with a texture method it must have UVs. */
+static bg_status read_mesh(const render_opts *o, bg_mesh *bm, bgt_err *e)
 {
-    memset(m, 0, sizeof *m);
-    memset(t, 0, sizeof *t);
-    if (desclen)
-        desc[0] = '\0';
-    bg_mesh bm;
     char err[512];
-    bg_status s = bg_mesh_load(o->mesh_path, &bm, err, sizeof err);
+    bg_status s = bg_mesh_load(o->mesh_path, bm, err, sizeof err);
     if (s != BG_OK)
         /* A missing or unreadable mesh is the caller's input at fault: exit 2. */
         return bgt_fail(e, s == BG_ERR_OUT_OF_MEMORY ? s : BG_ERR_FORMAT, "--mesh: %s", err);
-    const int textured = any_textured(o);
-    if (textured && !bm.u) {
-        bg_mesh_free(&bm);
+    if (any_textured(o) && !bm->u) {
+        bg_mesh_free(bm);
         return bgt_fail(e, BG_ERR_FORMAT,
                         "--mesh \"%s\": the mesh has no texture coordinates (UVs), which the "
                         "texture methods (listing1-heightmap, normalmap, surfgrad-heightmap, detail, "
                         "--preset fig4) need",
                         o->mesh_path);
     }
-    const size_t nv = bm.vertex_count;
-    /* Bounding box of the finite vertices; triangles with a non-finite corner are dropped. */
+    return BG_OK;
+}
+
+/* The sphere around the finite vertices: its centre c (of their bounding
+ * box) and radius, 0 or NaN when there is no finite extent. */
+static double bounding_sphere(const bg_mesh *bm, double c[3])
+{
+    const size_t nv = bm->vertex_count;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < nv; i++) {
-        double p[3] = {bm.px[i], bm.py[i], bm.pz[i]};
+        double p[3] = {bm->px[i], bm->py[i], bm->pz[i]};
         if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
             continue;
         for (int a = 0; a < 3; a++)
             lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
     }
-    double c[3], rad = 0;
+    double rad = 0;
     for (int a = 0; a < 3; a++)
         c[a] = 0.5 * (lo[a] + hi[a]);
     for (size_t i = 0; i < nv; i++) {
-        double d[3] = {bm.px[i] - c[0], bm.py[i] - c[1], bm.pz[i] - c[2]};
+        double d[3] = {bm->px[i] - c[0], bm->py[i] - c[1], bm->pz[i] - c[2]};
         double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (isfinite(r) && r > rad)
             rad = r;
     }
-    if (!(rad > 0)) {
-        bg_mesh_free(&bm);
-        return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
-                        o->mesh_path);
-    }
-    /* Vertex attributes: normalized positions, and the unit vertex normals of
-     * the mesh tool (mesh_frames.c: the file's, renormalized, else
-     * angle-weighted), so that a normal map baked by `bumpgrad mesh` is decoded
-     * here in the frame it was baked in. */
-    float *vp = malloc(nv * 3 * sizeof(float)), *vn = malloc(nv * 3 * sizeof(float));
-    float *sn = malloc((nv ? nv : 1) * 3 * sizeof(float));
-    if (!vp || !vn || !sn) {
-        free(vp), free(vn), free(sn);
-        bg_mesh_free(&bm);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-    }
-    float *snx = sn, *sny = sn + nv, *snz = sn + 2 * nv;
-    if (bm.nx) {
-        memcpy(snx, bm.nx, nv * sizeof(float));
-        memcpy(sny, bm.ny, nv * sizeof(float));
-        memcpy(snz, bm.nz, nv * sizeof(float));
+    return rad;
+}
+
+/* Vertex attributes: vp the positions normalized into the unit sphere, vn
+ * the unit vertex normals of the mesh tool (mesh_frames.c: the file's,
+ * renormalized, else angle-weighted), so that a normal map baked by
+ * `bumpgrad mesh` is decoded here in the frame it was baked in; sn the same
+ * normals as three arrays (x, y, z), for mikkTSpace. All or none allocated. */
+static bg_status vertex_arrays(const bg_mesh *bm, const double c[3], double rad, float **vp,
+                               float **vn, float **sn)
+{
+    const size_t nv = bm->vertex_count;
+    float *p = malloc(nv * 3 * sizeof(float)), *n = malloc(nv * 3 * sizeof(float));
+    float *q = malloc((nv ? nv : 1) * 3 * sizeof(float));
+    if (!p || !n || !q)
+        goto oom;
+    float *snx = q, *sny = q + nv, *snz = q + 2 * nv;
+    if (bm->nx) {
+        memcpy(snx, bm->nx, nv * sizeof(float));
+        memcpy(sny, bm->ny, nv * sizeof(float));
+        memcpy(snz, bm->nz, nv * sizeof(float));
         mesh_normalize_normals(nv, snx, sny, snz);
-    } else if (mesh_vertex_normals(&bm, snx, sny, snz) == (size_t)-1) {
-        free(vp), free(vn), free(sn);
-        bg_mesh_free(&bm);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    } else if (mesh_vertex_normals(bm, snx, sny, snz) == (size_t)-1) {
+        goto oom;
     }
     for (size_t i = 0; i < nv; i++) {
-        vp[i * 3] = (float)((bm.px[i] - c[0]) / rad);
-        vp[i * 3 + 1] = (float)((bm.py[i] - c[1]) / rad);
-        vp[i * 3 + 2] = (float)((bm.pz[i] - c[2]) / rad);
-        vn[i * 3] = snx[i], vn[i * 3 + 1] = sny[i], vn[i * 3 + 2] = snz[i];
+        p[i * 3] = (float)((bm->px[i] - c[0]) / rad);
+        p[i * 3 + 1] = (float)((bm->py[i] - c[1]) / rad);
+        p[i * 3 + 2] = (float)((bm->pz[i] - c[2]) / rad);
+        n[i * 3] = snx[i], n[i * 3 + 1] = sny[i], n[i * 3 + 2] = snz[i];
         /* (0,0,0): the face normal is used there (render_core trace) */
     }
-    /* Per-corner mikkTSpace tangents and signs (mikktspace.h), of the file's
-     * positions and UVs and the normals above: the frames `bumpgrad mesh
-     * --bake-normal-map` encodes in (mesh_bake.c). Only the normalmap method
-     * reads them, and a million triangles take seconds (docs/FIGURES.md,
-     * scale): computed only for it. */
-    const int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
-    float *ctan = NULL;
-    if (bm.u && want_nmap) {
-        ctan = malloc((bm.triangle_count ? bm.triangle_count : 1) * 12 * sizeof(float));
-        bgt_mikk_mesh mm = {nv, bm.triangle_count, bm.indices, bm.px, bm.py, bm.pz,
-                            snx, sny, snz, bm.u, bm.v};
-        s = ctan ? bgt_mikk_tangents(&mm, ctan, NULL) : BG_ERR_OUT_OF_MEMORY;
-        if (s != BG_OK) {
-            free(vp), free(vn), free(sn), free(ctan);
-            bg_mesh_free(&bm);
-            return bgt_fail(e, s, "--mesh \"%s\": mikkTSpace tangents failed (%s)", o->mesh_path,
-                            bg_status_string(s));
-        }
+    *vp = p, *vn = n, *sn = q;
+    return BG_OK;
+oom:
+    free(p), free(n), free(q);
+    return BG_ERR_OUT_OF_MEMORY;
+}
+
+/* Per-corner mikkTSpace tangents and signs (mikktspace.h), of the file's
+ * positions and UVs and the normals sn: the frames `bumpgrad mesh
+ * --bake-normal-map` encodes in (mesh_bake.c). Only the normalmap method
+ * reads them, and a million triangles take seconds (docs/FIGURES.md,
+ * scale): computed only for it (want_nmap); *ctan stays NULL otherwise. */
+static bg_status mesh_tangents(const render_opts *o, const bg_mesh *bm, const float *sn,
+                               int want_nmap, float **ctan, bgt_err *e)
+{
+    *ctan = NULL;
+    if (!bm->u || !want_nmap)
+        return BG_OK;
+    const size_t nv = bm->vertex_count;
+    float *t = malloc((bm->triangle_count ? bm->triangle_count : 1) * 12 * sizeof(float));
+    bgt_mikk_mesh mm = {nv, bm->triangle_count, bm->indices, bm->px, bm->py, bm->pz,
+                        sn, sn + nv, sn + 2 * nv, bm->u, bm->v};
+    bg_status s = t ? bgt_mikk_tangents(&mm, t, NULL) : BG_ERR_OUT_OF_MEMORY;
+    if (s != BG_OK) {
+        free(t);
+        return bgt_fail(e, s, "--mesh \"%s\": mikkTSpace tangents failed (%s)", o->mesh_path,
+                        bg_status_string(s));
     }
-    free(sn);
-    size_t keep = 0;
-    for (size_t f = 0; f < bm.triangle_count; f++) {
-        keep += tri_finite(bm.indices + f * 3, vp, nv);
+    *ctan = t;
+    return BG_OK;
+}
+
+/* The kept triangles (finite corners) as the renderer's flat arrays, 3
+ * corners each: positions, normals, UVs (v flipped) and tangents when the
+ * mesh has them, the material set of each (tmat, with per-triangle ids)
+ * and which sets are used; and the area-weighted mean |dP/ds|, |dP/dt|
+ * (for the normal-map bake's scale). */
+typedef struct flat_tris {
+    size_t keep, nsets;
+    float *pos, *nrm, *uv, *tan;
+    uint32_t *tmat;
+    unsigned char *used;
+    double ls, lt;
+} flat_tris;
+
+static void flat_free(flat_tris *ft)
+{
+    free(ft->pos), free(ft->nrm), free(ft->uv), free(ft->tan), free(ft->tmat), free(ft->used);
+    memset(ft, 0, sizeof *ft);
+}
+
+/* Materials: the loader's (bg_mesh.material, .materials): set i is material
+ * i, triangle f uses ids[f]; without per-triangle ids (at most one material)
+ * one set, material 0's, covers the mesh. A face with no known material (an
+ * OBJ face before any usemtl) is in assimp's default material, which names
+ * no texture. */
+static bg_status flatten(const bg_mesh *bm, const float *vp, const float *vn, const float *ctan,
+                         size_t keep, flat_tris *ft)
+{
+    const size_t nv = bm->vertex_count;
+    const uint32_t *ids = bm->u ? bm->material : NULL;
+    memset(ft, 0, sizeof *ft);
+    ft->keep = keep;
+    ft->nsets = ids ? (bm->u ? bm->material_count : 0) : 1;
+    ft->used = calloc(ft->nsets, 1);
+    ft->tmat = ids ? malloc(keep * sizeof *ft->tmat) : NULL;
+    ft->pos = malloc(keep * 9 * sizeof(float)), ft->nrm = malloc(keep * 9 * sizeof(float));
+    ft->uv = bm->u ? malloc(keep * 6 * sizeof(float)) : NULL;
+    ft->tan = ctan ? malloc(keep * 12 * sizeof(float)) : NULL;
+    if (!ft->pos || !ft->nrm || (bm->u && !ft->uv) || (ctan && !ft->tan) || !ft->used ||
+        (ids && !ft->tmat)) {
+        flat_free(ft);
+        return BG_ERR_OUT_OF_MEMORY;
     }
-    if (keep == 0) {
-        free(vp), free(vn), free(ctan);
-        bg_mesh_free(&bm);
-        return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no triangle with finite corners",
-                        o->mesh_path);
-    }
-    /* Materials: the loader's (bg_mesh.material, .materials): set i is
-     * material i, triangle f uses ids[f]; without per-triangle ids (at most
-     * one material) one set, material 0's, covers the mesh. A face with no
-     * known material (an OBJ face before any usemtl) is in assimp's default
-     * material, which names no texture. */
-    const uint32_t *ids = bm.u ? bm.material : NULL;
-    const size_t nmt = bm.u ? bm.material_count : 0, nsets = ids ? nmt : 1;
-    unsigned char *used = calloc(nsets, 1);
-    uint32_t *tmat = ids ? malloc(keep * sizeof *tmat) : NULL;
-    float *pos = malloc(keep * 9 * sizeof(float)), *nrm = malloc(keep * 9 * sizeof(float));
-    float *uv = bm.u ? malloc(keep * 6 * sizeof(float)) : NULL;
-    float *tan = ctan ? malloc(keep * 12 * sizeof(float)) : NULL;
-    if (!pos || !nrm || (bm.u && !uv) || (ctan && !tan) || !used || (ids && !tmat)) {
-        free(pos), free(nrm), free(uv), free(tan), free(used), free(tmat);
-        free(vp), free(vn), free(ctan);
-        bg_mesh_free(&bm);
-        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-    }
+    float *pos = ft->pos, *nrm = ft->nrm, *uv = ft->uv, *tan = ft->tan;
     size_t w = 0;
-    double len_s = 0, len_t = 0, wsum = 0; /* area-weighted |dP/ds|, |dP/dt| (normal-map bake) */
-    for (size_t f = 0; f < bm.triangle_count; f++) {
-        const uint32_t *I = bm.indices + f * 3;
+    double len_s = 0, len_t = 0, wsum = 0;
+    for (size_t f = 0; f < bm->triangle_count; f++) {
+        const uint32_t *I = bm->indices + f * 3;
         if (!tri_finite(I, vp, nv))
             continue;
-        used[ids ? ids[f] : 0] = 1;
-        if (tmat)
-            tmat[w] = ids[f];
+        ft->used[ids ? ids[f] : 0] = 1;
+        if (ft->tmat)
+            ft->tmat[w] = ids[f];
         for (int k = 0; k < 3; k++) {
             memcpy(pos + w * 9 + k * 3, vp + I[k] * 3, 3 * sizeof(float));
             memcpy(nrm + w * 9 + k * 3, vn + I[k] * 3, 3 * sizeof(float));
-            if (bm.u) {
-                uv[w * 6 + k * 2] = bm.u[I[k]], uv[w * 6 + k * 2 + 1] = 1.0f - bm.v[I[k]];
+            if (bm->u) {
+                uv[w * 6 + k * 2] = bm->u[I[k]], uv[w * 6 + k * 2 + 1] = 1.0f - bm->v[I[k]];
                 if (ctan)
                     memcpy(tan + w * 12 + k * 4, ctan + (f * 3 + k) * 4, 4 * sizeof(float));
             }
         }
-        if (bm.u) {
+        if (bm->u) {
             float ds[3], dt[3];
             const float *P = pos + w * 9;
             float e1[3] = {P[3] - P[0], P[4] - P[1], P[5] - P[2]}, e2[3] = {P[6] - P[0], P[7] - P[1], P[8] - P[2]}, fn[3];
@@ -465,49 +490,76 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         }
         w++;
     }
+    ft->ls = wsum > 0 ? len_s / wsum : 1.0, ft->lt = wsum > 0 ? len_t / wsum : 1.0;
+    return BG_OK;
+}
+
+/* The mesh as the renderer's flat triangles in m (and their material sets in
+ * ft: used, nsets, ls, lt); the geometry of bm is freed on the way, as large
+ * meshes need the memory, its materials stay. */
+static bg_status mesh_geometry(const render_opts *o, bg_mesh *bm, int want_nmap, render_mesh *m,
+                               flat_tris *ft, bgt_err *e)
+{
+    double c[3];
+    const double rad = bounding_sphere(bm, c);
+    if (!(rad > 0))
+        return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
+                        o->mesh_path);
+    float *vp, *vn, *sn, *ctan;
+    if (vertex_arrays(bm, c, rad, &vp, &vn, &sn) != BG_OK)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    bg_status s = mesh_tangents(o, bm, sn, want_nmap, &ctan, e);
+    free(sn);
+    if (s != BG_OK) {
+        free(vp), free(vn);
+        return s;
+    }
+    size_t keep = 0;
+    for (size_t f = 0; f < bm->triangle_count; f++)
+        keep += tri_finite(bm->indices + f * 3, vp, bm->vertex_count);
+    if (keep == 0)
+        s = bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no triangle with finite corners",
+                     o->mesh_path);
+    else if (flatten(bm, vp, vn, ctan, keep, ft) != BG_OK)
+        s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     free(vp), free(vn), free(ctan);
-    const int has_uv = bm.u != NULL;
-    /* Keep only the materials (a mesh holding just them, for bg_mesh_free):
-     * the geometry goes now, as large meshes need the memory. */
+    if (s != BG_OK)
+        return s;
+    /* Keep only the materials (a mesh holding just them, for bg_mesh_free). */
     bg_mesh mats = {0};
-    mats.materials = bm.materials, mats.material_count = bm.material_count;
-    mats.embedded_textures = bm.embedded_textures;
-    bm.materials = NULL, bm.material_count = 0, ids = NULL;
-    bg_mesh_free(&bm);
-    if ((s = render_mesh_adopt(m, keep, pos, nrm, uv, tan)) != BG_OK) {
-        bg_mesh_free(&mats);
-        free(used), free(tmat);
+    mats.materials = bm->materials, mats.material_count = bm->material_count;
+    mats.embedded_textures = bm->embedded_textures;
+    bm->materials = NULL, bm->material_count = 0;
+    bg_mesh_free(bm);
+    *bm = mats;
+    if ((s = render_mesh_adopt(m, keep, ft->pos, ft->nrm, ft->uv, ft->tan)) != BG_OK) {
+        ft->pos = ft->nrm = ft->uv = ft->tan = NULL; /* adopt freed them */
+        flat_free(ft);
         return bgt_fail(e, s, "out of memory");
     }
-    m->mat = tmat;
+    ft->pos = ft->nrm = ft->uv = ft->tan = NULL; /* m's now */
+    m->mat = ft->tmat, ft->tmat = NULL;
+    return BG_OK;
+}
 
-    /* ---- textures ---- */
-    t->amplitude = o->tex_amplitude;
-    t->st_scale = o->st_scale > 0 ? o->st_scale : 1.0f;
-    if (!has_uv) {
-        bg_mesh_free(&mats);
-        free(used);
-        t->mat = calloc(1, sizeof *t->mat); /* one empty set: the procedural methods */
-        if (!t->mat) {
-            render_mesh_free(m);
-            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-        }
-        t->nmat = 1;
-        return BG_OK;
-    }
-    const double ls = wsum > 0 ? len_s / wsum : 1.0, lt = wsum > 0 ? len_t / wsum : 1.0;
-    t->nmat = nsets;
+/* The textures of every used material set (mats: the mesh's materials),
+ * then the checks that the methods asked for find theirs. */
+static bg_status mesh_textures(const render_opts *o, const bg_mesh *mats, const flat_tris *ft,
+                               int want_nmap, render_textures *t, char *desc, size_t desclen,
+                               bgt_err *e)
+{
+    const size_t nsets = ft->nsets, nmt = mats->material_count;
     t->mat = calloc(nsets, sizeof *t->mat);
-    if (!t->mat) {
-        s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
-        goto fail;
-    }
+    if (!t->mat)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    t->nmat = nsets;
     size_t dl = 0;
+    bg_status s;
     for (size_t i = 0; i < nsets; i++) {
-        if (!used[i])
+        if (!ft->used[i])
             continue;
         /* set i: material i of the file (without per-triangle ids: material 0, if any) */
-        const bg_mesh_material *me = i < nmt ? &mats.materials[i] : NULL;
+        const bg_mesh_material *me = i < nmt ? &mats->materials[i] : NULL;
         const char *hp = o->height_map ? o->height_map : me ? me->height : NULL;
         const char *np = o->normal_map ? o->normal_map : me ? me->normal : NULL;
         const char *ap = o->albedo_map ? o->albedo_map : me ? me->diffuse : NULL;
@@ -519,45 +571,70 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         s = texture_origins(o, me, i, path, found, what, e);
         if (s == BG_OK) {
             const char *const labels[3] = {what[0], what[1], what[2]};
-            s = load_material(o, path[1], path[2], path[0], labels, want_nmap, ls, lt, t,
+            s = load_material(o, path[1], path[2], path[0], labels, want_nmap, ft->ls, ft->lt, t,
                               &t->mat[i], desc, desclen, &dl, nsets > 1, e);
         }
         free(found[0]), free(found[1]), free(found[2]);
         if (s != BG_OK)
-            goto fail;
+            return s;
         t->any_height |= t->mat[i].height.texels != NULL;
         t->any_nmap |= t->mat[i].nmap[0].texels != NULL;
     }
-    if (mats.embedded_textures) { /* the loader does not extract "*N" textures */
+    const size_t embedded = mats->embedded_textures;
+    if (embedded) { /* the loader does not extract "*N" textures */
         char count[32];
-        snprintf(count, sizeof count, "%zu", mats.embedded_textures);
+        snprintf(count, sizeof count, "%zu", embedded);
         desc_add(desc, desclen, &dl, 0, " (embedded textures skipped: ", count, ")");
     }
-    const size_t embedded = mats.embedded_textures;
-    bg_mesh_free(&mats);
-    free(used), used = NULL;
-    if (textured && !t->any_height &&
+    if (any_textured(o) && !t->any_height &&
         (need_texture(o, RENDER_LISTING1_HEIGHTMAP) || need_texture(o, RENDER_LISTING1_HEIGHTMAP_CENTRAL) ||
          need_texture(o, RENDER_SURFGRAD_HEIGHTMAP) || need_texture(o, RENDER_DETAIL) ||
-         o->preset == PRESET_FIG4)) {
-        s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
-                     "--mesh \"%s\": no height texture: give --height-map or --albedo (its "
-                     "materials name none%s)",
-                     o->mesh_path,
-                     embedded ? "; textures embedded in the file are not extracted" : "");
-        goto fail;
-    }
-    if (need_texture(o, RENDER_NORMALMAP) && !t->any_nmap) {
-        s = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
-                     "--mesh \"%s\": normalmap needs --normal-map, --height-map or --albedo",
-                     o->mesh_path);
-        goto fail;
-    }
+         o->preset == PRESET_FIG4))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--mesh \"%s\": no height texture: give --height-map or --albedo (its "
+                        "materials name none%s)",
+                        o->mesh_path,
+                        embedded ? "; textures embedded in the file are not extracted" : "");
+    if (need_texture(o, RENDER_NORMALMAP) && !t->any_nmap)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--mesh \"%s\": normalmap needs --normal-map, --height-map or --albedo",
+                        o->mesh_path);
     return BG_OK;
-fail:
-    bg_mesh_free(&mats);
-    free(used);
-    render_textures_free(t);
-    render_mesh_free(m);
+}
+
+bg_status render_load_mesh(const render_opts *o, render_mesh *m,
+                           render_textures *t, char *desc, size_t desclen, bgt_err *e)
+{
+    memset(m, 0, sizeof *m);
+    memset(t, 0, sizeof *t);
+    if (desclen)
+        desc[0] = '\0';
+    bg_mesh bm;
+    bg_status s = read_mesh(o, &bm, e);
+    if (s != BG_OK)
+        return s;
+    const int has_uv = bm.u != NULL;
+    const int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
+    flat_tris ft;
+    if ((s = mesh_geometry(o, &bm, want_nmap, m, &ft, e)) != BG_OK) {
+        bg_mesh_free(&bm);
+        return s;
+    }
+    /* bm holds only the materials now */
+    t->amplitude = o->tex_amplitude;
+    t->st_scale = o->st_scale > 0 ? o->st_scale : 1.0f;
+    if (!has_uv) {
+        t->mat = calloc(1, sizeof *t->mat); /* one empty set: the procedural methods */
+        t->nmat = t->mat ? 1 : 0;
+        s = t->mat ? BG_OK : bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+    } else {
+        s = mesh_textures(o, &bm, &ft, want_nmap, t, desc, desclen, e);
+    }
+    bg_mesh_free(&bm);
+    flat_free(&ft);
+    if (s != BG_OK) {
+        render_textures_free(t);
+        render_mesh_free(m);
+    }
     return s;
 }
