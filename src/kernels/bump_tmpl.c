@@ -257,13 +257,16 @@ BG_INLINE vcell noise_cell(vf x, vf y, vf z)
     return c;
 }
 
-/* The cell with its fractions computed again from the coordinates. */
+#ifdef BG_PIPELINE
+/* The cell with its fractions computed again from the coordinates (only the
+ * pipelined noise3 batch uses it: clang -Werror refuses an unused one). */
 BG_INLINE vcell cell_refrac(vcell c, vf x, vf y, vf z)
 {
     vi X, Y, Z; /* unused: noise_cell's */
     c.fx = lattice(x, &X), c.fy = lattice(y, &Y), c.fz = lattice(z, &Z);
     return c;
 }
+#endif
 
 /* The gradient only when `want_grad` (a constant after inlining, so the
  * value-only kernel does no gradient work). */
