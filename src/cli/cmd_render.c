@@ -298,7 +298,7 @@ static const cli_opt render_opts_table[] = {
 #undef O
 
 CLI_SPEC(render,
-    .summary = "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..3",
+    .summary = "ray-cast the paper's scenes with a bump method; --compare, --preset fig1..4",
     .usage = "[options] --output FILE.png|FILE.exr\n"
              "--preset fig1|fig2|fig3|fig4 --output FILE.png\n"
              "--mesh FILE [--compare M1,M2,..] --output FILE.png",

@@ -71,8 +71,19 @@ static void main_help(FILE *fp)
           "  BUMPGRAD_ISA  same as --isa; an unknown or unsupported level is an error\n"
           "  BUMPGRAD_NO_PROGRESS  if set (to anything), no progress line on a terminal\n"
           "                either; --progress still forces it\n"
+          "  BUMPGRAD_MAX_MB  cap in MiB on every allocation an input decides (default\n"
+          "                4096, 0 = no cap)\n"
+          "  BUMPGRAD_CHILD_TIMEOUT  seconds a mesh import or VDB probe child may run\n"
+          "                (default 60)\n"
+          "  BUMPGRAD_MESH_MAX_MB, BUMPGRAD_VDB_MAX_MB  memory allowance in MiB of the\n"
+          "                mesh import and VDB probe children (0 = no cap)\n"
+          "  BUMPGRAD_IO_MODULE  path of the I/O module (default: found next to the\n"
+          "                library)\n"
+          "  BUMPGRAD_FONT  font of the render panels' labels (a name or a .ttf path);\n"
+          "                BUMPGRAD_BITMAP_FONT (set to anything) uses the built-in 5x7 font\n"
           "\n"
-          "Exit status: 0 success, 1 runtime failure (I/O, memory), 2 bad input or usage.\n",
+          "Exit status: 0 success, 1 runtime failure (I/O, memory), 2 bad input or usage,\n"
+          "3 `render --compare --fail-above DEG` found a mean error above DEG.\n",
           fp);
 }
 
