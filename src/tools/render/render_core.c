@@ -435,7 +435,7 @@ static void tile_texcoords(const run_ctx *C, tile_buf *T, const tile_geom *G)
 }
 
 /* The footprint of sample k on the surface from the ray differentials at the
- * hit (bg_ray_differentials on the face plane): the longer of |dp/dx|, |dp/dy|. */
+ * hit (bg_ray_differentials on the face plane, bg_footprint_from_differentials). */
 static float hit_footprint(const render_scene *S, const tile_buf *T, const tile_geom *G, size_t k)
 {
     const float dxs = 2.0f * G->aspect * S->tan_half / (float)G->SW,
@@ -451,9 +451,7 @@ static float hit_footprint(const render_scene *S, const tile_buf *T, const tile_
     bg_vec3 dpdx, dpdy;
     bg_ray_differentials(v3(p), v3(T->nf + k * 3), v3(S->eye), v3(d), v3(ddx), v3(ddy), &dpdx,
                          &dpdy);
-    float fx = sqrtf(dpdx.x * dpdx.x + dpdx.y * dpdx.y + dpdx.z * dpdx.z);
-    float fy = sqrtf(dpdy.x * dpdy.x + dpdy.y * dpdy.y + dpdy.z * dpdy.z);
-    return fx > fy ? fx : fy;
+    return bg_footprint_from_differentials(dpdx, dpdy);
 }
 
 /* 2c. The detail map of `detail`: the solid turbulence's surface gradient
