@@ -82,6 +82,14 @@ cmake)
             "$b/io_consumer" "$work"
         fi
     done
+    # The example users copy (examples/cmake), built exactly as its comment says.
+    b=$work/example_cmake
+    echo "== examples/cmake"
+    "$cmake" -S "$src/examples/cmake" -B "$b" -DCMAKE_PREFIX_PATH="$prefix" \
+        -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$san" \
+        >"$b.log" 2>&1 || { cat "$b.log"; echo "FAIL: cmake configure (examples/cmake)"; exit 1; }
+    "$cmake" --build "$b" >>"$b.log" 2>&1 || { cat "$b.log"; echo "FAIL: build (examples/cmake)"; exit 1; }
+    "$b/bump_normals" 20000
     if [ "$tools" = true ] && [ ! -x "$work/cmake_config/io_consumer" ]; then
         echo "FAIL: bumpgrad_HAVE_IO false in a build with the tools"; exit 1
     fi
