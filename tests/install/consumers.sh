@@ -139,6 +139,17 @@ relocate)
         fi
         echo "no installed file names $build_abs or ${installed_prefix#"$dest"}/"
     fi
+    # Man pages (docs/INSTALL.md): man-db finds them through PREFIX/bin on PATH,
+    # or through MANPATH (the trailing colon keeps the system's pages).
+    if command -v man >/dev/null 2>&1 && command -v manpath >/dev/null 2>&1; then
+        page=$(unset MANPATH; PATH=$prefix/bin:$PATH man -w bumpgrad 2>&1) || true
+        [ "$page" = "$prefix/share/man/man1/bumpgrad.1" ] ||
+            { echo "FAIL: man -w bumpgrad with PREFIX/bin on PATH gave '$page'"; exit 1; }
+        page=$(MANPATH=$prefix/share/man: man -w bumpgrad-render 2>&1) || true
+        [ "$page" = "$prefix/share/man/man1/bumpgrad-render.1" ] ||
+            { echo "FAIL: man -w bumpgrad-render with MANPATH gave '$page'"; exit 1; }
+        echo "man finds the moved prefix's pages through PATH and through MANPATH"
+    fi
     [ "$tools" = true ] || { echo "relocate: no tools in this build"; exit 77; }
     cd "$work"
     unset BUMPGRAD_IO_MODULE || true
