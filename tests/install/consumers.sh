@@ -113,6 +113,14 @@ io)
         -Wl,-rpath,"$libdir" -o "$work/io_consumer"
     echo "linked: $(ldd "$work/io_consumer" | grep -o 'libbumpgrad-io[^ ]* => [^ ]*')"
     ( unset BUMPGRAD_IO_MODULE; "$work/io_consumer" "$work" )
+    # examples/volume_io.c, built with the command its own comment gives.
+    ex=$src/examples/volume_io.c
+    ex_libs=$(sed -n 's/^ \*   cc volume_io\.c \$(pkg-config --cflags --libs bumpgrad-io)\(.*\) -o volume_io$/libs:\1/p' "$ex")
+    [ -n "$ex_libs" ] || { echo "FAIL: no build comment in $ex"; exit 1; }
+    # shellcheck disable=SC2086
+    "${CC:-cc}" -std=c11 -Wall -Wextra -Werror $san "$ex" $flags ${ex_libs#libs:} \
+        -Wl,-rpath,"$libdir" -o "$work/volume_io"
+    ( unset BUMPGRAD_IO_MODULE; "$work/volume_io" "$work" 16 )
     # Fail fast and silently (status + message, no stderr) when the module is missing.
     BUMPGRAD_IO_MODULE=$work/no-such-module.so "$work/io_consumer" "$work" missing 2>"$work/stderr"
     if [ -s "$work/stderr" ]; then
