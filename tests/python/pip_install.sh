@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# `pip install .` into a fresh venv (Debian's python3-mesonpy, offline), then the
+# Python tests against the installed package, run from outside the source tree
+# with no PYTHONPATH to the package (docs/PYTHON.md). Called by scripts/test.
+# usage: tests/python/pip_install.sh WORKDIR    (WORKDIR keeps meson-python's
+# build folder between runs, so a second run only recompiles what changed)
+# Ends with "pip install tests: N passed, M failed".
+set -uo pipefail
+src=$(cd "$(dirname "$0")/../.." && pwd)
+work=$(mkdir -p "$1" && cd "$1" && pwd)
+venv=$work/venv
+passed=0; failed=0
+result() { # name, command...
+  local name=$1; shift
+  if "$@"; then echo "ok   $name"; passed=$((passed + 1)); else echo "FAIL $name"; failed=$((failed + 1)); fi
+}
+rm -rf "$venv"
+/usr/bin/python3 -m venv --system-site-packages "$venv" || { echo "pip install tests: 0 passed, 1 failed"; exit 1; }
+result pip_install "$venv/bin/pip" install --quiet --no-build-isolation --no-index --no-deps \
+  --config-settings=builddir="$work/build" "$src"
+run=$(mktemp -d)
+trap 'rm -rf "$run"' EXIT
+cd "$run"
+check_value() {
+  local got
+  got=$("$venv/bin/python" -c 'import bumpgrad, numpy; print(repr(bumpgrad.noise3(numpy.array([[3.14, 42, 7]]), dtype=numpy.float64)[0]))') || return 1
+  echo "noise3 at Perlin's point: $got"
+  [ "$got" = "0.13691995878400012" ]
+}
+result perlin_point check_value
+# perlin_ref.py (the numpy reference) is test data from examples/, not the package.
+for t in "test_installed.py $venv" "test_bumpgrad.py reference" "test_bumpgrad.py bounds" \
+         "test_bumpgrad.py badinput" "test_conventions.py"; do
+  set -- $t
+  result "$t" env PYTHONPATH="$src/examples" PYTHONDONTWRITEBYTECODE=1 \
+    "$venv/bin/python" "$src/tests/python/$1" "${@:2}"
+done
+echo "pip install tests: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
