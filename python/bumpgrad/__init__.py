@@ -47,6 +47,7 @@ __all__ = [
     "resolve_normal", "surfgrad_from_tangent_normal", "surfgrad_from_perturbed_normal",
     "triplanar_weights", "surfgrad_triplanar", "isa_best", "isa_active", "isa_force",
     "DEFAULT_OCTAVES", "DEFAULT_CENTRAL_STEP", "MAX_OCTAVES", "HAVE_TOOLS",
+    "bake_normal_map", "read_image",
     # deprecated float64 aliases (use dtype=numpy.float64)
     "noise3d", "fbm3d", "turbulence3d", "fractal3d", "surface_gradientd", "perturbd",
     "resolve_normald", "surfgrad_from_tangent_normald", "surfgrad_from_perturbed_normald",
@@ -706,6 +707,111 @@ surfgrad_from_perturbed_normald = _alias("surfgrad_from_perturbed_normal",
                                          surfgrad_from_perturbed_normal)
 triplanar_weightsd = _alias("triplanar_weights", triplanar_weights)
 surfgrad_triplanard = _alias("surfgrad_triplanar", surfgrad_triplanar)
+
+
+# ---- the tools (builds with OpenImageIO, OpenVDB and assimp) ---------------------------------
+
+_SPACES = {"tangent": 0, "object": 1}
+_TANGENTS = {"mikktspace": 0, "file": 1}
+_Y = {"+y": 0, "-y": 1}
+_DEPTHS = {None: -1, 8: 0, 16: 1, "half": 2, "float": 3}
+
+
+def _need_tools(name):
+    if not HAVE_TOOLS:
+        raise Error(6, "not available", f"{name} needs a build with the tools "
+                    "(OpenImageIO, OpenVDB, assimp)")
+
+
+def read_image(path):
+    """An image file as a float32 array of shape (height, width, channels), row 0
+    at the top, as bg_image_read gives it (8- and 16-bit formats map to [0, 1]).
+    Raises bumpgrad.Error naming the file when it cannot be read. Tools builds only.
+
+    >>> read_image("/no/such/file.png")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    bumpgrad.Error: ...
+    """
+    _need_tools("read_image")
+    return _c.read_image(_os.fsdecode(path))
+
+
+def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
+                    octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, amplitude=0.1,
+                    frequency=1.0, gradient="analytic", step=DEFAULT_CENTRAL_STEP,
+                    method="surfgrad", space="tangent", padding=4, tangents="mikktspace",
+                    normal_map_y="+y", recompute_normals=False, depth=None, udim=False,
+                    threads=None, progress=None):
+    """Bake the normal map of a mesh bumped by a solid height field: the tool
+    behind ``bumpgrad mesh --bake-normal-map`` (bgt_mesh_run), with the CLI's
+    options as keyword arguments (docs/MESH.md).
+
+    mesh_path  any mesh assimp reads, with UV set 0.
+    size       texels: N or (width, height), per UDIM tile.
+    path       None: return the map as a float32 array (height, width, 3) holding
+               the encoded normal 0.5 m + 0.5 exactly as a float file from the
+               CLI holds it; with udim=True a dict {udim: array} of the tiles.
+               A file name: write the map (format from the extension, one file per
+               tile when it holds <UDIM>) and return the list of UDIM tiles written.
+    function, octaves, lacunarity, gain, amplitude, frequency, gradient, step,
+    method     the height field and perturbation, as perturb_height.
+    space      'tangent' (mikkTSpace frame) or 'object'; tangents 'mikktspace' or
+               'file'; normal_map_y '+y' (OpenGL, glTF) or '-y' (DirectX).
+    padding    dilate into empty texels this many times (integer >= 0).
+    depth      None (the tool's default for the file type), 8, 16, 'half' or 'float'.
+    threads    worker threads (default: all cores).
+    progress   None, or a callable progress(done, total) called with texel
+               counts about 100 times during the bake (from the bake's threads).
+    Raises bumpgrad.Error with the tool's message (missing mesh, no UVs, a map
+    too large for BUMPGRAD_MAX_MB, ...). Tools builds only (bumpgrad.HAVE_TOOLS).
+
+    >>> bake_normal_map("/no/such/mesh.obj", 16)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    bumpgrad.Error: ...
+    """
+    _need_tools("bake_normal_map")
+    if isinstance(size, tuple) and len(size) == 2:
+        w = _int_arg("size[0]", size[0], 1, 1 << 16)
+        h = _int_arg("size[1]", size[1], 1, 1 << 16)
+    else:
+        w = h = _int_arg("size", size, 1, 1 << 16)
+    fn = _choice("function", function, _FUNCTIONS)
+    grad = _gradient(gradient, allow_none=False) - 1
+    octaves = _int_arg("octaves", octaves, 1, MAX_OCTAVES)
+    lacunarity = _float_arg("lacunarity", lacunarity, "positive")
+    gain = _float_arg("gain", gain)
+    amplitude = _float_arg("amplitude", amplitude)
+    frequency = _float_arg("frequency", frequency)
+    step = _float_arg("step", step, "positive")
+    m = _choice("method", method, _METHODS)
+    sp = _choice("space", space, _SPACES)
+    tg = _choice("tangents", tangents, _TANGENTS)
+    gy = _choice("normal_map_y", normal_map_y, _Y)
+    padding = _int_arg("padding", padding, 0, 4096)
+    dp = _choice("depth", depth, _DEPTHS)
+    nt = _threads(threads)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable or None, got {progress!r}")
+    mesh_path = _os.fsdecode(mesh_path)
+    if not isinstance(recompute_normals, (bool, _np.bool_)):
+        raise TypeError(f"recompute_normals must be True or False, got {recompute_normals!r}")
+
+    def run(target, depth_code):
+        return _c.mesh_bake(mesh_path, target, w, h, fn, octaves, lacunarity, gain, amplitude,
+                            frequency, step, grad, m, sp, padding, tg, gy,
+                            int(bool(recompute_normals)), depth_code, nt, progress)
+
+    if path is not None:
+        return run(_os.fsdecode(path), dp)[4]
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="bumpgrad-bake-") as tmp:
+        target = _os.path.join(tmp, "map<UDIM>.tif" if udim else "map.tif")
+        tiles = run(target, _DEPTHS["float"])[4]
+        if not udim:
+            return read_image(target)
+        return {t: read_image(_os.path.join(tmp, f"map{t:04d}.tif")) for t in tiles}
 
 
 # ---- ISA ------------------------------------------------------------------------------

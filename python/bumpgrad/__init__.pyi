@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 # Type stubs of the bumpgrad package (python/bumpgrad/__init__.py documents each call).
-from typing import Any, Literal, Optional, Sequence, Tuple, Union, overload
+import os
+from typing import Any, Callable, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -102,3 +103,17 @@ def surfgrad_from_tangent_normald(*args: Any, **kw: Any) -> _Vec: ...
 def surfgrad_from_perturbed_normald(*args: Any, **kw: Any) -> _Vec: ...
 def triplanar_weightsd(*args: Any, **kw: Any) -> _Vec: ...
 def surfgrad_triplanard(*args: Any, **kw: Any) -> _Vec: ...
+
+# The tools (HAVE_TOOLS builds; otherwise they raise Error).
+def read_image(path: Union[str, "os.PathLike[str]"]) -> npt.NDArray[np.float32]: ...
+def bake_normal_map(mesh_path: Union[str, "os.PathLike[str]"], size: Union[int, Tuple[int, int]],
+                    path: Optional[Union[str, "os.PathLike[str]"]] = ..., *,
+                    function: _Function = ..., octaves: int = ..., lacunarity: float = ...,
+                    gain: float = ..., amplitude: float = ..., frequency: float = ...,
+                    gradient: Literal["analytic", "central"] = ..., step: float = ...,
+                    method: _Method = ..., space: Literal["tangent", "object"] = ...,
+                    padding: int = ..., tangents: Literal["mikktspace", "file"] = ...,
+                    normal_map_y: Literal["+y", "-y"] = ..., recompute_normals: bool = ...,
+                    depth: Union[None, int, str] = ..., udim: bool = ...,
+                    threads: Optional[int] = ...,
+                    progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...

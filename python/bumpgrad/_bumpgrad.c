@@ -778,6 +778,7 @@ PyMODINIT_FUNC PyInit__bumpgrad(void)
         return NULL;
 #ifdef BGPY_TOOLS
     PyModule_AddIntConstant(m, "HAVE_TOOLS", 1);
+    PyModule_AddIntConstant(m, "MESH_MAX_UDIM_TILES", MESH_UDIM_MAX_TILES);
 #else
     PyModule_AddIntConstant(m, "HAVE_TOOLS", 0);
 #endif

@@ -3,7 +3,7 @@
 # `pip install .` into a fresh venv (Debian's python3-mesonpy, offline), then the
 # Python tests against the installed package, run from outside the source tree
 # with no PYTHONPATH to the package (docs/PYTHON.md). Called by scripts/test.
-# usage: tests/python/pip_install.sh WORKDIR    (WORKDIR keeps meson-python's
+# usage: tests/python/pip_install.sh WORKDIR [BUMPGRAD_EXE]   (WORKDIR keeps meson-python's
 # build folder between runs, so a second run only recompiles what changed)
 # Ends with "pip install tests: N passed, M failed".
 set -uo pipefail
@@ -31,10 +31,16 @@ check_value() {
 result perlin_point check_value
 # perlin_ref.py (the numpy reference) is test data from examples/, not the package.
 for t in "test_installed.py $venv" "test_bumpgrad.py reference" "test_bumpgrad.py bounds" \
-         "test_bumpgrad.py badinput" "test_conventions.py"; do
+         "test_bumpgrad.py badinput" "test_conventions.py" "test_conventions.py sigint"; do
   set -- $t
   result "$t" env PYTHONPATH="$src/examples" PYTHONDONTWRITEBYTECODE=1 \
     "$venv/bin/python" "$src/tests/python/$1" "${@:2}"
 done
+# bake_normal_map against the command's bake, when a built command is given.
+if [ -n "${2:-}" ]; then
+  exe=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
+  result "test_tools.py" env PYTHONDONTWRITEBYTECODE=1 "$venv/bin/python" \
+    "$src/tests/python/test_tools.py" "$exe"
+fi
 echo "pip install tests: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
