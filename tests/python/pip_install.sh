@@ -9,6 +9,8 @@
 set -uo pipefail
 src=$(cd "$(dirname "$0")/../.." && pwd)
 work=$(mkdir -p "$1" && cd "$1" && pwd)
+exe=""
+[ -n "${2:-}" ] && exe=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
 venv=$work/venv
 passed=0; failed=0
 result() { # name, command...
@@ -37,8 +39,7 @@ for t in "test_installed.py $venv" "test_bumpgrad.py reference" "test_bumpgrad.p
     "$venv/bin/python" "$src/tests/python/$1" "${@:2}"
 done
 # bake_normal_map against the command's bake, when a built command is given.
-if [ -n "${2:-}" ]; then
-  exe=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
+if [ -n "$exe" ]; then
   result "test_tools.py" env PYTHONDONTWRITEBYTECODE=1 "$venv/bin/python" \
     "$src/tests/python/test_tools.py" "$exe"
 fi
