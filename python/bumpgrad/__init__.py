@@ -47,7 +47,7 @@ __all__ = [
     "resolve_normal", "surfgrad_from_tangent_normal", "surfgrad_from_perturbed_normal",
     "triplanar_weights", "surfgrad_triplanar", "isa_best", "isa_active", "isa_force",
     "DEFAULT_OCTAVES", "DEFAULT_CENTRAL_STEP", "MAX_OCTAVES", "HAVE_TOOLS",
-    "bake_normal_map", "read_image",
+    "bake_normal_map", "heightmap", "read_image", "write_image",
     # deprecated float64 aliases (use dtype=numpy.float64)
     "noise3d", "fbm3d", "turbulence3d", "fractal3d", "surface_gradientd", "perturbd",
     "resolve_normald", "surfgrad_from_tangent_normald", "surfgrad_from_perturbed_normald",
@@ -735,6 +735,87 @@ def read_image(path):
     """
     _need_tools("read_image")
     return _c.read_image(_os.fsdecode(path))
+
+
+_BITS = {8: 0, 16: 1, "half": 2, "float": 3, 32: 3}
+
+
+def write_image(path, image, bits=8, srgb=False):
+    """Write an array (height, width) or (height, width, channels), row 0 at the
+    top, to an image file (format from the extension) with bg_image_write:
+    through a temporary file, renamed when complete. bits: 8, 16, 'half' or
+    'float' (the file format must store it); srgb=True encodes linear values
+    with the sRGB curve. Tools builds only.
+
+    >>> write_image("/no/such/dir/x.png", [[0.5]])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    bumpgrad.Error: ...
+    """
+    _need_tools("write_image")
+    a = _asfloat(image, "image")
+    if a.ndim == 2:
+        a = a[:, :, None]
+    if a.ndim != 3 or not 1 <= a.shape[2] <= 4 or a.shape[0] < 1 or a.shape[1] < 1:
+        raise ValueError(f"image must have shape (height, width) or (height, width, 1..4), "
+                         f"got {a.shape}")
+    _c.write_image(_os.fsdecode(path), _np.ascontiguousarray(a, dtype=_F32),
+                   _choice("bits", bits, _BITS), int(bool(srgb)))
+
+
+_GRAYS = {"seed": 0, "rec709": 1}
+
+
+def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y",
+              gray="seed", to_derivative=False, bits=None):
+    """The tool behind ``bumpgrad heightmap`` (bgt_heightmap_run): an image's
+    gray level as a height H into a tangent-space normal map
+    n = normalize(-S a, -S b, 1) with a = H[x+1,y] - H[x-1,y], b = H[x,y-1] - H[x,y+1]
+    stored as 0.5 n + 0.5; or, with to_derivative=True, a normal map into the
+    derivative map (dh/du, dh/dv, 0).
+
+    image      an image file name, or an array (height, width[, channels]) of
+               float values, row 0 at the top (written to a float TIFF first).
+    path       None: return the result as a float32 array (height, width, 3),
+               exactly as a float file from the command holds it; or a file name
+               to write (format from the extension) and return None.
+    strength   the slope factor S (finite; negative inverts the bumps).
+    edge       'clamp' or 'wrap' (the neighbours beyond the border).
+    normal_map_y '+y' (OpenGL) or '-y' (DirectX: --y-down).
+    gray       'seed' or 'rec709': the gray level of a colour image.
+    bits       with path: 8, 16 or 'float' (None: 8, or float with to_derivative).
+    Raises bumpgrad.Error with the tool's message (unreadable image, a NaN
+    sample, ...). Tools builds only.
+
+    >>> import numpy
+    >>> m = heightmap(numpy.zeros((4, 5)))
+    >>> m.shape, m[0, 0].tolist()
+    ((4, 5, 3), [0.5, 0.5, 1.0])
+    """
+    _need_tools("heightmap")
+    strength = _float_arg("strength", strength)
+    wrap = _choice("edge", edge, {"clamp": 0, "wrap": 1})
+    y_down = _choice("normal_map_y", normal_map_y, _Y)
+    g = _choice("gray", gray, _GRAYS)
+    nbits = _choice("bits", bits, {None: 0, 8: 8, 16: 16, "float": 32, 32: 32})
+    if not isinstance(to_derivative, (bool, _np.bool_)):
+        raise TypeError(f"to_derivative must be True or False, got {to_derivative!r}")
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="bumpgrad-heightmap-") as tmp:
+        if isinstance(image, (str, bytes, _os.PathLike)):
+            src = _os.fsdecode(image)
+        else:
+            src = _os.path.join(tmp, "in.tif")
+            write_image(src, image, bits="float")
+        if path is not None:
+            _c.heightmap(src, _os.fsdecode(path), g, strength, wrap, y_down,
+                         int(bool(to_derivative)), nbits)
+            return None
+        if bits is not None:
+            raise ValueError("bits is for path=: the array is always float32")
+        out = _os.path.join(tmp, "out.tif")
+        _c.heightmap(src, out, g, strength, wrap, y_down, int(bool(to_derivative)), 32)
+        return read_image(out)
 
 
 def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",

@@ -117,3 +117,10 @@ def bake_normal_map(mesh_path: Union[str, "os.PathLike[str]"], size: Union[int, 
                     depth: Union[None, int, str] = ..., udim: bool = ...,
                     threads: Optional[int] = ...,
                     progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...
+def write_image(path: Union[str, "os.PathLike[str]"], image: npt.ArrayLike,
+                bits: Union[int, str] = ..., srgb: bool = ...) -> None: ...
+def heightmap(image: Union[str, "os.PathLike[str]", npt.ArrayLike],
+              path: Optional[Union[str, "os.PathLike[str]"]] = ..., *, strength: float = ...,
+              edge: Literal["clamp", "wrap"] = ..., normal_map_y: Literal["+y", "-y"] = ...,
+              gray: Literal["seed", "rec709"] = ..., to_derivative: bool = ...,
+              bits: Union[None, int, str] = ...) -> Optional[npt.NDArray[np.float32]]: ...

@@ -8,6 +8,7 @@
 #include "bumpgrad/image.h"
 #include "common/tool.h"
 #include "height_source.h"
+#include "bake/bake.h"
 #include "mesh/mesh_tool.h"
 
 static PyObject *raise_tool(bg_status s, const bgt_err *e)
@@ -172,6 +173,61 @@ static PyObject *py_read_image(PyObject *self, PyObject *args)
     return a;
 }
 
+/* write_image(path, array float32 (h, w, c) C-contiguous, pixel type, srgb) */
+static PyObject *py_write_image(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *path;
+    PyObject *o;
+    int type, srgb;
+    if (!PyArg_ParseTuple(args, "sOii", &path, &o, &type, &srgb))
+        return NULL;
+    if (!PyArray_Check(o) || PyArray_TYPE((PyArrayObject *)o) != NPY_FLOAT32 ||
+        PyArray_NDIM((PyArrayObject *)o) != 3 || !PyArray_ISCARRAY_RO((PyArrayObject *)o)) {
+        PyErr_SetString(PyExc_TypeError, "bumpgrad: internal: write_image needs a C-contiguous "
+                                         "float32 (h, w, c) array");
+        return NULL;
+    }
+    PyArrayObject *a = (PyArrayObject *)o;
+    bg_image img = {.width = (int)PyArray_DIM(a, 1), .height = (int)PyArray_DIM(a, 0),
+                    .channels = (int)PyArray_DIM(a, 2), .pixels = PyArray_DATA(a)};
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_io_ready(&e);
+    if (s == BG_OK)
+        s = bg_image_write(path, &img, (bg_pixel_type)type, srgb, e.msg, sizeof e.msg);
+    Py_END_ALLOW_THREADS
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    Py_RETURN_NONE;
+}
+
+/* heightmap(input, output, gray, strength, wrap, y_down, to_derivative, bits) */
+static PyObject *py_heightmap(PyObject *self, PyObject *args)
+{
+    (void)self;
+    bgt_heightmap_opts o;
+    memset(&o, 0, sizeof o);
+    int gray;
+    if (!PyArg_ParseTuple(args, "ssifiiii", &o.input, &o.output, &gray, &o.strength, &o.wrap,
+                          &o.y_down, &o.to_derivative, &o.bits))
+        return NULL;
+    o.gray = (bgt_gray)gray;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_heightmap_run(&o, &e);
+    Py_END_ALLOW_THREADS
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    Py_RETURN_NONE;
+}
+
 #define TOOLS_PY_METHODS                                                                          \
     {"mesh_bake", py_mesh_bake, METH_VARARGS, NULL},                                              \
-        {"read_image", py_read_image, METH_VARARGS, NULL},
+        {"read_image", py_read_image, METH_VARARGS, NULL},                                        \
+        {"write_image", py_write_image, METH_VARARGS, NULL},                                      \
+        {"heightmap", py_heightmap, METH_VARARGS, NULL},

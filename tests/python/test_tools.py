@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """The tools as Python functions (docs/PYTHON.md): bake_normal_map returns the
 same texels as `bumpgrad mesh --bake-normal-map` writes to a float file, for
-several option sets, UDIM tiles and path= output; progress and errors.
+several option sets, UDIM tiles and path= output; progress and errors; and
+heightmap() the same as `bumpgrad heightmap`.
 
 usage: test_tools.py BUMPGRAD_EXE
 """
@@ -122,6 +123,32 @@ def main():
             check(False, "an exception in progress was lost")
         except RuntimeError as e:
             check("stop here" in str(e), f"progress exception: {e}")
+        # heightmap: the same texels as `bumpgrad heightmap ... --bits float`.
+        h = np.random.default_rng(4).uniform(0, 1, (24, 40)).astype(np.float32)
+        png, ftif = os.path.join(tmp, "h.png"), os.path.join(tmp, "h.tif")
+        bumpgrad.write_image(png, h, bits=8)
+        bumpgrad.write_image(ftif, h, bits="float")
+        check(np.array_equal(bits(bumpgrad.read_image(ftif)[:, :, 0]), bits(h)),
+              "write_image/read_image float round trip")
+        for src, kw, args in ((png, {}, []),
+                              (png, dict(strength=2.0, edge="wrap", normal_map_y="-y"),
+                               ["--strength", "2", "--edge", "wrap", "--y-down"]),
+                              (ftif, dict(strength=0.5), ["--strength", "0.5"])):
+            out = os.path.join(tmp, "hm.tif")
+            subprocess.run([exe, "-q", "heightmap", src, out, "--bits", "float"] + args, check=True)
+            want = bumpgrad.read_image(out)
+            got = bumpgrad.heightmap(src, **kw)
+            check(np.array_equal(bits(got), bits(want)), f"heightmap {kw}: differs from the CLI")
+            if src == ftif:
+                check(np.array_equal(bits(bumpgrad.heightmap(h, **kw)), bits(want)),
+                      "heightmap of an array differs from the CLI on its float file")
+        nm = os.path.join(tmp, "nm.tif")
+        bumpgrad.heightmap(png, nm, bits="float")
+        d_cli = os.path.join(tmp, "d.tif")
+        subprocess.run([exe, "-q", "heightmap", nm, d_cli, "--to-derivative"], check=True)
+        check(np.array_equal(bits(bumpgrad.heightmap(nm, to_derivative=True)),
+                             bits(bumpgrad.read_image(d_cli))), "to_derivative differs")
+        print("heightmap: same texels as the CLI (png, float tif, array, to_derivative)")
         # Errors: the tool's message, as bumpgrad.Error.
         missing = os.path.join(tmp, "missing.obj")
         try:
