@@ -21,6 +21,20 @@ rm -rf "$venv"
 /usr/bin/python3 -m venv --system-site-packages "$venv" || { echo "pip install tests: 0 passed, 1 failed"; exit 1; }
 result pip_install "$venv/bin/pip" install --quiet --no-build-isolation --no-index --no-deps \
   --config-settings=builddir="$work/build" "$src"
+# `pip wheel` from the same build folder: one wheel with the package in platlib.
+check_wheel() {
+  rm -rf "$work/wheel"
+  "$venv/bin/pip" wheel --quiet --no-build-isolation --no-index --no-deps \
+    --config-settings=builddir="$work/build" -w "$work/wheel" "$src" || return 1
+  "$venv/bin/python" - "$work"/wheel/bumpgrad-*.whl <<'PY'
+import sys, zipfile
+names = zipfile.ZipFile(sys.argv[1]).namelist()
+print("wheel:", sys.argv[1].rsplit("/", 1)[-1], sorted(n for n in names if n.startswith("bumpgrad/")))
+assert any(n.startswith("bumpgrad/_bumpgrad") and n.endswith(".so") for n in names), names
+assert "bumpgrad/__init__.py" in names and "bumpgrad/__init__.pyi" in names, names
+PY
+}
+result pip_wheel check_wheel
 run=$(mktemp -d)
 trap 'rm -rf "$run"' EXIT
 cd "$run"
