@@ -309,7 +309,13 @@ def _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out,
     nt = _threads(threads)
     comps, shape, tup = _split(p, "p")
     dt = _dtype(dtype, comps)
-    x, y, z = (_flat(c, shape, dt) for c in comps)
+    a = None if tup else _np.asarray(p)
+    if a is not None and a.flags.c_contiguous:
+        # A C-contiguous (..., 3) array (checked by _split): C splits it into
+        # x, y, z block by block, on the worker threads (no SoA copy here).
+        x, y, z = _np.ascontiguousarray(a, dtype=dt).reshape(-1), None, None
+    else:
+        x, y, z = (_flat(c, shape, dt) for c in comps)
     if mode == 0:
         o = _Out(out, shape, dt, "out", False, tup)
         _c.fractal(dt is _F64, fn, int(octaves), float(lacunarity), float(gain), 0, float(step),

@@ -136,6 +136,7 @@ struct job {
     size_t n, nblocks;
     atomic_size_t next;
     atomic_int stop;
+    atomic_int oom; /* a block could not get its scratch memory */
 };
 
 static void run_some(job *j)
@@ -238,7 +239,57 @@ static int parse_fractal(int function, int octaves, float lacunarity, float gain
 
 #define OFF(p, T, b) ((p) ? (T *)(p) + (b) : NULL)
 
+static void fractal_range_soa(const job *j, size_t b, size_t e);
+
+/* Points given as one interleaved (N, 3) array (job.kind = 1, in[0]): each
+ * block is split into x, y, z here, on the worker's thread, then computed as
+ * SoA. The same bits as SoA input: only the layout of the input differs. */
 static void fractal_range(const job *j, size_t b, size_t e)
+{
+    if (!j->kind) {
+        fractal_range_soa(j, b, e);
+        return;
+    }
+    const size_t N = e - b, item = j->dbl ? sizeof(double) : sizeof(float);
+    char *buf = malloc(3 * N * item);
+    if (!buf) {
+        /* No memory for the block's copy: NaN results rather than a crash
+         * (the caller's arrays are fine; this needs 3 * 16384 * 8 bytes). */
+        atomic_store((atomic_int *)&j->oom, 1);
+        return;
+    }
+    job k;
+    memcpy(&k, j, sizeof k);
+    k.kind = 0;
+    k.in[0] = buf;
+    k.in[1] = buf + N * item;
+    k.in[2] = buf + 2 * N * item;
+    /* The outputs shifted so that index 0 is point b: the SoA code then runs on [0, N). */
+    for (int i = 0; i < 4; i++)
+        if (k.out[i])
+            k.out[i] = (char *)k.out[i] + b * item;
+    if (j->dbl) {
+        const double *p = (const double *)j->in[0] + 3 * b;
+        double *x = (double *)buf, *y = x + N, *z = y + N;
+        for (size_t i = 0; i < N; i++) {
+            x[i] = p[3 * i];
+            y[i] = p[3 * i + 1];
+            z[i] = p[3 * i + 2];
+        }
+    } else {
+        const float *p = (const float *)j->in[0] + 3 * b;
+        float *x = (float *)buf, *y = x + N, *z = y + N;
+        for (size_t i = 0; i < N; i++) {
+            x[i] = p[3 * i];
+            y[i] = p[3 * i + 1];
+            z[i] = p[3 * i + 2];
+        }
+    }
+    fractal_range_soa(&k, 0, N);
+    free(buf);
+}
+
+static void fractal_range_soa(const job *j, size_t b, size_t e)
 {
     const size_t N = e - b;
     const int mode = j->mode, function = j->function;
@@ -304,12 +355,35 @@ static PyObject *py_fractal(PyObject *self, PyObject *args)
     const char fmt = dbl ? 'd' : 'f';
     bufs B = {.count = 0};
     Py_ssize_t n = -1;
-    if (!getn(&B, o, j.in, 3, fmt, &n, 0, 0) || !getn(&B, o + 3, j.out, 1, fmt, &n, 1, 1) ||
+    if (o[1] == Py_None) { /* x is an interleaved (N, 3) buffer */
+        Py_ssize_t n3 = -1;
+        if (!getn(&B, o, j.in, 1, fmt, &n3, 0, 0)) {
+            release(&B);
+            return NULL;
+        }
+        if (n3 % 3 != 0) {
+            release(&B);
+            PyErr_SetString(PyExc_ValueError, "bumpgrad: internal: interleaved points not 3N long");
+            return NULL;
+        }
+        n = n3 / 3;
+        j.kind = 1;
+    } else if (!getn(&B, o, j.in, 3, fmt, &n, 0, 0)) {
+        release(&B);
+        return NULL;
+    }
+    if (!getn(&B, o + 3, j.out, 1, fmt, &n, 1, 1) ||
         (mode != 0 && !getn(&B, o + 4, j.out + 1, 3, fmt, &n, 1, 0))) {
         release(&B);
         return NULL;
     }
-    return finish(&B, &j, n, threads);
+    atomic_init(&j.oom, 0);
+    PyObject *r = finish(&B, &j, n, threads);
+    if (r && atomic_load(&j.oom)) {
+        Py_DECREF(r);
+        return PyErr_NoMemory();
+    }
+    return r;
 }
 
 static void footprint_range(const job *j, size_t b, size_t e)

@@ -164,6 +164,12 @@ def test_threads():
         one = call(1)
         for t in (2, 3, 7):
             check(same(call(t), one), f"{name}: threads={t} differs from threads=1")
+    # An interleaved (N, 3) array is split into x, y, z per block in C: the same
+    # bits as three arrays, over several blocks, in both precisions.
+    for arr in (p, q):
+        soa = tuple(np.ascontiguousarray(arr[:, i]) for i in range(3))
+        a, b = bumpgrad.noise3(arr, "analytic", threads=2), bumpgrad.noise3(soa, "analytic", threads=2)
+        check(same(a[0], b[0]) and same(a[1], np.stack(b[1], -1)), f"(N, 3) vs SoA {arr.dtype}")
     # The default (all cores) too, and one block per point count around a block edge.
     for m in (block - 1, block, block + 1):
         check(same(bumpgrad.noise3(q[:m]), bumpgrad.noise3(q[:m], threads=1)), f"n={m}")
@@ -183,10 +189,10 @@ def test_fast_path():
 def test_sigint():
     """A real SIGINT during a long call: KeyboardInterrupt between blocks, the
     unfinished blocks never written (not an exception after the whole call)."""
-    n = 64 * bumpgrad._c.BLOCK
+    n = 256 * bumpgrad._c.BLOCK   # about 15 s of work on one core of the shared machine
     p = np.random.default_rng(1).uniform(-50, 50, (n, 3)).astype(np.float32)
     out = (np.full(n, np.nan, np.float32), None)
-    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
     try:
         bumpgrad.fbm3(p, octaves=32, gradient="central", threads=1, out=out)
