@@ -710,15 +710,20 @@ static PyObject *py_noise3(PyObject *self, PyObject *const *args, Py_ssize_t nar
         goto slow;
     PyObject *res;
     if (nd == 1) {
+        /* One point: a numpy scalar (PyArray_Scalar does not take the descr's reference). */
+        PyArray_Descr *d = PyArray_DescrFromType(type);
         if (type == NPY_FLOAT32) {
             const float *p = PyArray_DATA(a);
             float v;
             bg_noise3_batch(&p[0], &p[1], &p[2], 1, &v);
-            return PyArray_Scalar(&v, PyArray_DescrFromType(NPY_FLOAT32), NULL);
+            res = PyArray_Scalar(&v, d, NULL);
+        } else {
+            const double *p = PyArray_DATA(a);
+            double v = bg_noise3d(p[0], p[1], p[2]);
+            res = PyArray_Scalar(&v, d, NULL);
         }
-        const double *p = PyArray_DATA(a);
-        double v = bg_noise3d(p[0], p[1], p[2]);
-        return PyArray_Scalar(&v, PyArray_DescrFromType(NPY_FLOAT64), NULL);
+        Py_DECREF(d);
+        return res;
     }
     res = PyArray_SimpleNew(nd - 1, PyArray_DIMS(a), type);
     if (!res)
