@@ -47,7 +47,7 @@ __all__ = [
     "resolve_normal", "surfgrad_from_tangent_normal", "surfgrad_from_perturbed_normal",
     "triplanar_weights", "surfgrad_triplanar", "isa_best", "isa_active", "isa_force",
     "DEFAULT_OCTAVES", "DEFAULT_CENTRAL_STEP", "MAX_OCTAVES", "HAVE_TOOLS",
-    "bake_normal_map", "heightmap", "read_image", "write_image",
+    "bake_normal_map", "heightmap", "volume", "read_image", "write_image",
     # deprecated float64 aliases (use dtype=numpy.float64)
     "noise3d", "fbm3d", "turbulence3d", "fractal3d", "surface_gradientd", "perturbd",
     "resolve_normald", "surfgrad_from_tangent_normald", "surfgrad_from_perturbed_normald",
@@ -822,6 +822,83 @@ def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y"
         out = _os.path.join(tmp, "out.tif")
         _c.heightmap(src, out, g, strength, wrap, y_down, int(bool(to_derivative)), 32)
         return read_image(out)
+
+
+def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulence",
+           octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, amplitude=0.1, frequency=1.0,
+           gradient="analytic", step=DEFAULT_CENTRAL_STEP, threads=None, progress=None):
+    """The tool behind ``bumpgrad volume`` (bgt_volume_run): the height field
+    h(p) = amplitude F(frequency p) baked at the voxel centres S (i, j, k) inside
+    the box, for any sub-box (docs/IO.md describes the file).
+
+    bbox       (x0, y0, z0, x1, y1, z1): the voxels whose centre is inside.
+    voxel_size S, finite > 0.
+    path       a .vdb file name: write the FloatGrid "height" and the Vec3SGrid
+               "gradient" (temporary file, renamed when complete) and return
+               (active voxels, index lo (i, j, k), index hi). None: return
+               (heights, gradients, lo): float32 arrays indexed
+               [i - lo[0], j - lo[1], k - lo[2]] (gradients with a last axis of 3)
+               holding the values the file holds. The tool runs first (into a
+               temporary file: its checks and caps decide the box), then the
+               tools' height source (bgt_height_gradient) is evaluated at the
+               tool's voxel centres (float)(S * i), as the bake does. A dense box
+               only: band_sphere needs a path.
+    band_sphere (cx, cy, cz, r, w): only the voxels with | |p - c| - r | <= w.
+    function ... step: the height field, as perturb_height; threads, progress
+               (progress(done, total) in rows of voxels) as bake_normal_map.
+    Raises bumpgrad.Error with the tool's message. Tools builds only.
+
+    >>> h, g, lo = volume((0, 0, 0, 1, 1, 1), 0.5, amplitude=0.0)
+    >>> h.shape, g.shape, lo, float(abs(h).max())
+    ((3, 3, 3), (3, 3, 3, 3), (0, 0, 0), 0.0)
+    """
+    _need_tools("volume")
+    try:
+        box = [_float_arg(f"bbox[{i}]", v, f32=False) for i, v in enumerate(bbox)]
+    except TypeError:
+        raise TypeError(f"bbox must be 6 numbers (x0, y0, z0, x1, y1, z1), got {bbox!r}") from None
+    if len(box) != 6:
+        raise ValueError(f"bbox must be 6 numbers (x0, y0, z0, x1, y1, z1), got {len(box)}")
+    voxel = _float_arg("voxel_size", voxel_size, "positive", f32=False)
+    band = None
+    if band_sphere is not None:
+        band = tuple(_float_arg(f"band_sphere[{i}]", v, f32=False) for i, v in enumerate(band_sphere))
+        if len(band) != 5:
+            raise ValueError(f"band_sphere must be 5 numbers (cx, cy, cz, r, w), got {len(band)}")
+        if path is None:
+            raise ValueError("band_sphere needs path=: the array form is for dense boxes")
+    fn = _choice("function", function, _FUNCTIONS)
+    grad = _gradient(gradient, allow_none=False) - 1
+    octaves = _int_arg("octaves", octaves, 1, MAX_OCTAVES)
+    lacunarity = _float_arg("lacunarity", lacunarity, "positive")
+    gain = _float_arg("gain", gain)
+    amplitude = _float_arg("amplitude", amplitude)
+    frequency = _float_arg("frequency", frequency)
+    step = _float_arg("step", step, "positive")
+    nt = _threads(threads)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable or None, got {progress!r}")
+
+    def run(target):
+        return _c.volume_bake(target, *box, voxel, band, fn, octaves, lacunarity, gain,
+                              amplitude, frequency, step, grad, nt, progress)
+
+    if path is not None:
+        return run(_os.fsdecode(path))
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="bumpgrad-volume-") as tmp:
+        target = _os.path.join(tmp, "volume.vdb")
+        _, lo, hi = run(target)
+    axes = [_np.arange(a, b + 1, dtype=_np.int64) for a, b in zip(lo, hi)]
+    ii, jj, kk = _np.meshgrid(*axes, indexing="ij")
+    # The tool's voxel centres: (float)(S * i) (src/tools/bake/volume.c).
+    pts = [(voxel * a).astype(_F32).reshape(-1) for a in (ii, jj, kk)]
+    heights = _np.empty(ii.size, _F32)
+    grads = _np.empty((3, ii.size), _F32)
+    _c.height_field(fn, octaves, lacunarity, gain, amplitude, frequency, step, grad, nt, *pts,
+                    heights, grads[0], grads[1], grads[2])
+    return (heights.reshape(ii.shape), _np.moveaxis(grads.reshape((3,) + ii.shape), 0, -1),
+            tuple(lo))
 
 
 def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",

@@ -124,3 +124,11 @@ def heightmap(image: Union[str, "os.PathLike[str]", npt.ArrayLike],
               edge: Literal["clamp", "wrap"] = ..., normal_map_y: Literal["+y", "-y"] = ...,
               gray: Literal["seed", "rec709"] = ..., to_derivative: bool = ...,
               bits: Union[None, int, str] = ...) -> Optional[npt.NDArray[np.float32]]: ...
+def volume(bbox: Sequence[float], voxel_size: float,
+           path: Optional[Union[str, "os.PathLike[str]"]] = ..., *,
+           band_sphere: Optional[Sequence[float]] = ..., function: _Function = ...,
+           octaves: int = ..., lacunarity: float = ..., gain: float = ...,
+           amplitude: float = ..., frequency: float = ...,
+           gradient: Literal["analytic", "central"] = ..., step: float = ...,
+           threads: Optional[int] = ...,
+           progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...

@@ -6,6 +6,7 @@
 #include <stdatomic.h>
 
 #include "bumpgrad/image.h"
+#include "bumpgrad/volume.h"
 #include "common/tool.h"
 #include "height_source.h"
 #include "bake/bake.h"
@@ -226,8 +227,148 @@ static PyObject *py_heightmap(PyObject *self, PyObject *args)
     Py_RETURN_NONE;
 }
 
+/* volume_bake(output, x0, y0, z0, x1, y1, z1, voxel, band (cx, cy, cz, r, w) | None, function,
+ *             octaves, lacunarity, gain, amplitude, frequency, step, gradient, threads,
+ *             progress|None) -> (voxels, (lo), (hi)) */
+static PyObject *py_volume_bake(PyObject *self, PyObject *args)
+{
+    (void)self;
+    bgt_volume_opts o;
+    memset(&o, 0, sizeof o);
+    PyObject *band, *cb;
+    int function, octaves, gradient;
+    float lac, gain, amp, freq, step;
+    if (!PyArg_ParseTuple(args, "sdddddddOiifffffiiO", &o.output, &o.bbox[0], &o.bbox[1],
+                          &o.bbox[2], &o.bbox[3], &o.bbox[4], &o.bbox[5], &o.voxel, &band,
+                          &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
+                          &o.threads, &cb))
+        return NULL;
+    if (band != Py_None) {
+        if (!PyArg_ParseTuple(band, "ddddd", &o.band[0], &o.band[1], &o.band[2], &o.band[3],
+                              &o.band[4]))
+            return NULL;
+        o.have_band = 1;
+    }
+    bgt_height h;
+    bgt_height_init(&h);
+    h.h.fractal.function = (bg_function)function;
+    h.h.fractal.octaves = octaves;
+    h.h.fractal.lacunarity = lac;
+    h.h.fractal.gain = gain;
+    h.h.amplitude = amp;
+    h.h.frequency = freq;
+    h.h.gradient = (bg_gradient_mode)gradient;
+    h.h.step = step;
+    o.height = &h;
+    py_progress pp = {.cb = cb};
+    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
+    if (cb != Py_None)
+        o.progress = &sink;
+    bgt_volume_result r;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_volume_run(&o, &r, &e);
+    Py_END_ALLOW_THREADS
+    if (pp.exc) {
+        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+        return NULL;
+    }
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    return Py_BuildValue("(K(LLL)(LLL))", (unsigned long long)r.voxels, r.lo[0], r.lo[1], r.lo[2],
+                         r.hi[0], r.hi[1], r.hi[2]);
+}
+
+/* The tools' height source (height_source.h) on SoA points, over threads. */
+static void height_field_range(const job *j, size_t b, size_t e)
+{
+    bgt_height_gradient(j->aux[0], (float *)j->in[0] + b, (float *)j->in[1] + b,
+                        (float *)j->in[2] + b, e - b, (float *)j->out[0] + b,
+                        (float *)j->out[1] + b, (float *)j->out[2] + b, (float *)j->out[3] + b);
+}
+
+/* height_field(function, octaves, lacunarity, gain, amplitude, frequency, step, gradient,
+ *              threads, x, y, z, height, gx, gy, gz): bgt_height_gradient, the
+ * function `bumpgrad volume` bakes (the fractal height; no grid). */
+static PyObject *py_height_field(PyObject *self, PyObject *args)
+{
+    (void)self;
+    int function, octaves, gradient, threads;
+    float lac, gain, amp, freq, step;
+    PyObject *o[7];
+    if (!PyArg_ParseTuple(args, "iifffffiiOOOOOOO", &function, &octaves, &lac, &gain, &amp,
+                          &freq, &step, &gradient, &threads, &o[0], &o[1], &o[2], &o[3], &o[4],
+                          &o[5], &o[6]))
+        return NULL;
+    bgt_height h;
+    bgt_height_init(&h);
+    h.h.fractal.function = (bg_function)function;
+    h.h.fractal.octaves = octaves;
+    h.h.fractal.lacunarity = lac;
+    h.h.fractal.gain = gain;
+    h.h.amplitude = amp;
+    h.h.frequency = freq;
+    h.h.gradient = (bg_gradient_mode)gradient;
+    h.h.step = step;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s = bgt_height_open(&h, &e);
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    job j = {.run = height_field_range};
+    j.aux[0] = &h;
+    bufs B = {.count = 0};
+    Py_ssize_t n = -1;
+    PyObject *r = NULL;
+    if (getn(&B, o, j.in, 3, 'f', &n, 0, 0) && getn(&B, o + 3, j.out, 4, 'f', &n, 1, 0))
+        r = finish(&B, &j, n, threads);
+    else
+        release(&B);
+    bgt_height_close(&h);
+    return r;
+}
+
+/* vdb_sample(path, grid|None, x, y, z, height) float32: bg_vdb_height_sample_batch. */
+static PyObject *py_vdb_sample(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *path, *grid;
+    PyObject *o[4];
+    if (!PyArg_ParseTuple(args, "szOOOO", &path, &grid, &o[0], &o[1], &o[2], &o[3]))
+        return NULL;
+    bufs B = {.count = 0};
+    Py_ssize_t n = -1;
+    void *in[3], *out[1];
+    if (!getn(&B, o, in, 3, 'f', &n, 0, 0) || !getn(&B, o + 3, out, 1, 'f', &n, 1, 0)) {
+        release(&B);
+        return NULL;
+    }
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    bg_vdb_height *v = NULL;
+    s = bgt_io_ready(&e);
+    if (s == BG_OK)
+        s = bg_vdb_height_open(path, grid, &v, e.msg, sizeof e.msg);
+    if (s == BG_OK) {
+        bg_vdb_height_sample_batch(v, in[0], in[1], in[2], (size_t)n, out[0], NULL, NULL, NULL);
+        bg_vdb_height_close(v);
+    }
+    Py_END_ALLOW_THREADS
+    release(&B);
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    Py_RETURN_NONE;
+}
+
 #define TOOLS_PY_METHODS                                                                          \
     {"mesh_bake", py_mesh_bake, METH_VARARGS, NULL},                                              \
         {"read_image", py_read_image, METH_VARARGS, NULL},                                        \
         {"write_image", py_write_image, METH_VARARGS, NULL},                                      \
-        {"heightmap", py_heightmap, METH_VARARGS, NULL},
+        {"heightmap", py_heightmap, METH_VARARGS, NULL},                                          \
+        {"volume_bake", py_volume_bake, METH_VARARGS, NULL},                                      \
+        {"vdb_sample", py_vdb_sample, METH_VARARGS, NULL},                                        \
+        {"height_field", py_height_field, METH_VARARGS, NULL},
