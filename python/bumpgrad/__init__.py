@@ -383,6 +383,7 @@ points with no keyword takes a fast path in C.
 >>> print(repr(noise3(numpy.array([[3.14, 42, 7]]), dtype=numpy.float64)[0]))
 0.13691995878400012
 """
+_noise3.__name__ = _noise3.__qualname__ = "noise3"  # in its TypeErrors
 _noise3.__doc__ = _NOISE3_DOC.split("--\n\n", 1)[1]
 _c._set_hooks(Error, _noise3, _NOISE3_DOC)
 #: The C function: its fast path handles plain (..., 3) arrays, the rest goes to _noise3.
