@@ -10,6 +10,7 @@ import os
 import signal
 import sys
 import threading
+import time
 import warnings
 
 import numpy as np
@@ -189,10 +190,17 @@ def test_fast_path():
 def test_sigint():
     """A real SIGINT during a long call: KeyboardInterrupt between blocks, the
     unfinished blocks never written (not an exception after the whole call)."""
-    n = 256 * bumpgrad._c.BLOCK   # about 15 s of work on one core of the shared machine
+    n = 256 * bumpgrad._c.BLOCK   # seconds of work on one core
     p = np.random.default_rng(1).uniform(-50, 50, (n, 3)).astype(np.float32)
     out = (np.full(n, np.nan, np.float32), None)
-    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+
+    def interrupt():
+        # Once the call has written its first block (the GIL is released
+        # while it runs), send the process a real SIGINT.
+        while np.isnan(out[0][0]):
+            time.sleep(0.001)
+        os.kill(os.getpid(), signal.SIGINT)
+    timer = threading.Thread(target=interrupt)
     timer.start()
     try:
         bumpgrad.fbm3(p, octaves=32, gradient="central", threads=1, out=out)
