@@ -180,7 +180,7 @@ python)
     [ -n "$init" ] || { echo "FAIL: the Python package is not installed"; exit 1; }
     site=$(dirname "$(dirname "$init")")
     out=$(cd "$work" && PYTHONPATH=$site "$python" -c \
-        'import bumpgrad, numpy; print(repr(float(bumpgrad.noise3d(numpy.array([[3.14, 42, 7]]))[0])), bumpgrad._c.__file__)')
+        'import bumpgrad, numpy; print(repr(float(bumpgrad.noise3(numpy.array([[3.14, 42, 7]]), dtype=numpy.float64)[0])), bumpgrad._c.__file__)')
     echo "PYTHONPATH=$site: $out"
     case $out in
     "0.13691995878400012 $prefix"/*) ;;
