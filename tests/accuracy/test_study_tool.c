@@ -9,16 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "study/study_tool.h"
-
-static int failures;
-#define CHECK(c, ...)                                  \
-    do {                                               \
-        printf("%s ", (c) ? "ok  " : "FAIL");          \
-        printf(__VA_ARGS__);                           \
-        printf("\n");                                  \
-        if (!(c))                                      \
-            failures++;                                \
-    } while (0)
+#include "common/check.h"
 
 typedef struct seen {
     int wrote, begin, end, nrows_at_first_wrote;
@@ -65,6 +56,7 @@ static int exists(const char *dir, const char *name)
 
 int main(void)
 {
+    check_verbose = 1;
     char dir[] = "/tmp/bg-study-tool-XXXXXX";
     if (!mkdtemp(dir)) {
         perror("mkdtemp");
@@ -149,7 +141,5 @@ int main(void)
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);
-    if (failures)
-        printf("%d check(s) failed\n", failures);
-    return failures != 0;
+    return check_summary("test_study_tool");
 }

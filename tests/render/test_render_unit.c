@@ -13,17 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "render/render.h"
-
-static int failures;
-#define CHECK(c, ...)                                     \
-    do {                                                  \
-        if (!(c)) {                                       \
-            failures++;                                   \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
-            fprintf(stderr, __VA_ARGS__);                 \
-            fputc('\n', stderr);                          \
-        }                                                 \
-    } while (0)
+#include "common/check.h"
 
 static unsigned long long rng = 0x9E3779B97F4A7C15ull;
 static double urand(void) /* [-1, 1), xorshift64* */
@@ -242,7 +232,5 @@ int main(void)
     test_mesh(RENDER_BLOB);
     test_mesh(RENDER_TORUS);
     test_names();
-    if (failures)
-        fprintf(stderr, "%d failure(s)\n", failures);
-    return failures ? 1 : 0;
+    return check_summary("test_render_unit");
 }

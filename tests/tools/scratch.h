@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The scratch folder and check macro of the tools' unit tests (test_bake.c,
+/* The scratch folder of the tools' unit tests (test_bake.c,
  * test_io.c): one fresh folder per run under the build directory, paths in
  * it, a count of temporaries a failed write left behind. Include once, from
  * the test's main file (it defines the test's static state). */
@@ -10,17 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int failures;
-#define CHECK(cond, ...)                                  \
-    do {                                                  \
-        if (!(cond)) {                                    \
-            failures++;                                   \
-            printf("  FAIL %s:%d: ", __FILE__, __LINE__); \
-            printf(__VA_ARGS__);                          \
-            printf("\n");                                 \
-        }                                                 \
-    } while (0)
+#include "common/check.h"
 
 static char dir[4096]; /* the scratch folder */
 
@@ -42,6 +32,15 @@ static void scratch_remove(void)
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         printf("  note: could not remove %s\n", dir);
+}
+
+/* The verdict (check_summary) as main's exit status; the folder is removed
+ * after a passing run. */
+static int scratch_finish(const char *name)
+{
+    if (!check_failures)
+        scratch_remove();
+    return check_summary(name);
 }
 
 /* dir/name, valid until 8 more calls. */

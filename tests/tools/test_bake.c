@@ -336,8 +336,5 @@ int main(int argc, char **argv)
         test_mesh();
     else
         return 2;
-    printf("%s: %d failure(s)\n", argv[1], failures);
-    if (!failures)
-        scratch_remove();
-    return failures ? 1 : 0;
+    return scratch_finish(argv[1]);
 }

@@ -477,8 +477,5 @@ int main(int argc, char **argv)
         test_errors();
     else
         return 2;
-    printf("test_io %s: %s\n", argv[1], failures ? "FAILED" : "all checks passed");
-    if (!failures)
-        scratch_remove();
-    return failures ? 1 : 0;
+    return scratch_finish(argv[1]);
 }
