@@ -22,6 +22,16 @@ static double urand(void) /* [-1, 1), xorshift64* */
     return (double)((rng * 2685821657736338717ull) >> 11) / 4503599627370496.0 - 1.0;
 }
 
+/* d = the unit direction from o towards t */
+static void aim(const float o[3], const float t[3], float d[3])
+{
+    for (int k = 0; k < 3; k++)
+        d[k] = t[k] - o[k];
+    float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++)
+        d[k] /= l;
+}
+
 static void test_listing1_plane(void)
 {
     double worst = 0;
@@ -128,11 +138,7 @@ static void test_mesh(render_shape shape)
         if (shape == RENDER_TORUS) /* aim at random points near the ring */
             for (int k = 0; k < 3; k++)
                 target[k] = (float)(0.4 * urand());
-        for (int k = 0; k < 3; k++)
-            d[k] = target[k] - o[k];
-        float dl = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int k = 0; k < 3; k++)
-            d[k] /= dl;
+        aim(o, target, d);
         render_hit a, b;
         int ha = render_mesh_intersect(&m, o, d, INFINITY, &a), hb = brute(&m, o, d, &b);
         if (ha != hb || (ha && a.t != b.t))
@@ -189,11 +195,7 @@ static void test_embree(render_shape shape)
         for (int k = 0; k < 3; k++)
             o[k] = (float)(urand() * 3.0), tgt[k] = (float)(urand() * 0.8);
         o[2] += (o[2] >= 0 ? 3.0f : -3.0f);
-        for (int k = 0; k < 3; k++)
-            d[k] = tgt[k] - o[k];
-        float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int k = 0; k < 3; k++)
-            d[k] /= l;
+        aim(o, tgt, d);
         render_hit a, b;
         int ha = render_mesh_intersect(&m, o, d, INFINITY, &a), hb = render_embree_intersect(rt, o, d, &b);
         CHECK(ha == hb, "ray %d: bvh hit %d, embree hit %d", i, ha, hb);

@@ -34,14 +34,6 @@ static void scratch_remove(void)
         printf("  note: could not remove %s\n", dir);
 }
 
-/* The verdict (check_summary) as main's exit status; the folder is removed
- * after a passing run. */
-static int scratch_finish(const char *name)
-{
-    if (!check_failures)
-        scratch_remove();
-    return check_summary(name);
-}
 
 /* dir/name, valid until 8 more calls. */
 static const char *path_in(const char *name)
@@ -66,6 +58,41 @@ static int temp_leftovers(void)
     if (d)
         closedir(d);
     return n;
+}
+
+/* The verdict (check_summary) as main's exit status; the folder is removed
+ * after a passing run. */
+static inline int scratch_finish(const char *name)
+{
+    if (!check_failures)
+        scratch_remove();
+    return check_summary(name);
+}
+
+/* A test program's main: `PROG GROUP SCRATCH_PARENT` runs the group of that
+ * name in a fresh scratch folder, which is removed after a passing run; the
+ * verdict (check_summary) is the exit status, 2 for a bad call. */
+typedef struct scratch_group {
+    const char *name;
+    void (*run)(void);
+} scratch_group;
+
+static inline int scratch_main(int argc, char **argv, const char *prog, const scratch_group *groups,
+                        size_t ngroups)
+{
+    for (size_t i = 0; argc == 3 && i < ngroups; i++) {
+        if (strcmp(argv[1], groups[i].name) != 0)
+            continue;
+        if (!scratch_create(argv[2], prog, argv[1]))
+            return 1;
+        groups[i].run();
+        return scratch_finish(argv[1]);
+    }
+    fprintf(stderr, "usage: %s GROUP SCRATCH_PARENT; groups:", prog);
+    for (size_t i = 0; i < ngroups; i++)
+        fprintf(stderr, " %s", groups[i].name);
+    fputc('\n', stderr);
+    return 2;
 }
 
 #endif

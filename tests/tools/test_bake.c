@@ -322,19 +322,9 @@ static void test_mesh(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_bake heightmap|volume|mesh SCRATCH_DIR\n");
-        return 2;
-    }
-    if (!scratch_create(argv[2], "test_bake", argv[1]))
-        return 1;
-    if (strcmp(argv[1], "heightmap") == 0)
-        test_heightmap();
-    else if (strcmp(argv[1], "volume") == 0)
-        test_volume();
-    else if (strcmp(argv[1], "mesh") == 0)
-        test_mesh();
-    else
-        return 2;
-    return scratch_finish(argv[1]);
+    static const scratch_group groups[] = {
+        {"heightmap", test_heightmap},
+        {"volume", test_volume},
+        {"mesh", test_mesh}};
+    return scratch_main(argc, argv, "test_bake", groups, sizeof groups / sizeof groups[0]);
 }
