@@ -12,7 +12,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include "render/render.h"
+#include "render/render_internal.h"
 #include "common/check.h"
 
 static unsigned long long rng = 0x9E3779B97F4A7C15ull;

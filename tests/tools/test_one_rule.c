@@ -14,7 +14,7 @@
 #include "bake/bake.h"
 #include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
-#include "render/render.h"
+#include "render/render_internal.h"
 
 static uint64_t rng = 0x9e3779b97f4a7c15u;
 static float urand(void) /* [-1, 1) */
