@@ -80,10 +80,6 @@ static int run_perturb(void *args, const char *const *pos, int npos)
     perturb_args a = *(perturb_args *)args;
     if (a.json && strcmp(a.io.output, "-") == 0)
         return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
-    bgt_err herr;
-    bg_status hs = bgt_height_open(&a.height, &herr);
-    if (hs != BG_OK)
-        return cli_report(cmd, hs, &herr);
     if (a.threads == 0)
         a.threads = bgt_threads_default();
 
@@ -97,7 +93,6 @@ static int run_perturb(void *args, const char *const *pos, int npos)
     double t0 = cli_now();
     bg_status st = bgt_perturb_run(&opts, &err);
     double dt = cli_now() - t0;
-    bgt_height_close(&a.height);
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
     const double *gb = stats->grid_box;
