@@ -6,7 +6,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
-#include "study/study_tool.h"
+#include "study/study.h"
 
 static const char *const CMD = "accuracy";
 

@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 #include "args.h"
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 #include "cli.h"
 #include "json.h"
 

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
-#include "bake/bake.h"
+#include "bake/volume.h"
 #include "cli.h"
 #include "json.h"
 

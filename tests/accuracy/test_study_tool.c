@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The studies as tools calls (src/tools/study/study_tool.h), without the
+/* The studies as tools calls (src/tools/study/study.h), without the
  * command: argument checks and their statuses, the rows and files of a small
  * accuracy run, the callbacks, and a failing output folder. Measured facts of
  * the studies themselves are checked by test_study.py. */
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "study/study_tool.h"
+#include "study/study.h"
 #include "common/check.h"
 
 typedef struct seen {

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/bench_impl.h" /* bench_job_run, the grid rows' lattice */
+#include "bench/bench_internal.h" /* bench_job_run, the grid rows' lattice */
 #include "check.h"             /* tests/core: CHECK, check_failures */
 
 static size_t fake_points, fake_calls;

@@ -11,7 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "bake/bake.h"
+#include "bake/heightmap.h"
+#include "bake/volume.h"
 #include "bumpgrad/image.h"
 #include "mesh/mesh_tool.h"
 #include "scratch.h"

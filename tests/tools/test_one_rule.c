@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 #include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
 #include "render/render_internal.h"

@@ -3,7 +3,7 @@
  * every row of a table, float or double, analytic or central (the table pass,
  * table.c, reads and writes the tables). */
 #include "points.h"
-#include "table.h"
+#include "points_internal.h"
 
 #define EVAL_BLOCK 8192
 #define EVAL_CHUNK 1024

@@ -4,7 +4,7 @@
  * kernel (Mikkelsen 2010, eq. 2 and 4) or Perlin's additive rule. The `inward`
  * column marks rows whose bumped normal faces away from the surface normal. */
 #include "points.h"
-#include "table.h"
+#include "points_internal.h"
 #if BG_HAVE_TOOLS
 #include "bumpgrad/volume.h"
 #endif

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* The table pass of eval and perturb (table.h). As dav1d's tools/output picks
+/* The table pass of eval and perturb (points_internal.h). As dav1d's tools/output picks
  * a muxer, the pass picks a reader and a writer once, by the file name, from
  * the lists below; the first that claims the name wins and the last claims
  * every name. */
-#include "table.h"
+#include "points_internal.h"
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>

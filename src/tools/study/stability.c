@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* bgt_stability_run (study_tool.h), the study of `bumpgrad stability`:
+/* bgt_stability_run (study.h), the study of `bumpgrad stability`:
  * sweeps that show where each way of bumping a normal fails, written as a
  * markdown report, CSV tables, gnuplot charts and a JSON summary that the
  * tests read:

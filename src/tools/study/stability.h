@@ -9,7 +9,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include "common/safe_file.h"
-#include "study.h"
+#include "study_internal.h"
 
 typedef struct st_out {
     const char *dir;

@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* The table pass of eval and perturb (table.c): the input table is read and
- * the output table written by a reader and a writer picked once, by the file
- * name's extension, from table.c's lists (CSV with columns by name, or a .npy
- * array of shape (N, count)); the tools describe their columns and compute,
- * and format nothing themselves. */
-#ifndef BUMPGRAD_TOOLS_POINTS_TABLE_H
-#define BUMPGRAD_TOOLS_POINTS_TABLE_H
+/* Inside the points tools (the face is points.h): the table pass of eval and
+ * perturb (table.c). The input table is read and the output table written by
+ * a reader and a writer picked once, by the file name's extension, from
+ * table.c's lists (CSV with columns by name, or a .npy array of shape
+ * (N, count)); the tools describe their columns and compute, and format
+ * nothing themselves. */
+#ifndef BUMPGRAD_TOOLS_POINTS_INTERNAL_H
+#define BUMPGRAD_TOOLS_POINTS_INTERNAL_H
 
 #include <stddef.h>
 #include "common/tool.h"
