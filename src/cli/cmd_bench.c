@@ -147,7 +147,7 @@ static void print_json(FILE *fp, const bgt_bench_result *res)
     fputs("]\n", fp);
 }
 
-static void print_table(FILE *fp, const bgt_bench_result *res)
+static void print_rows(FILE *fp, const bgt_bench_result *res)
 {
     fprintf(fp, "%-30s %-8s %3s %9s %9s %9s  %4s %8s %7s %6s  %s\n", "kernel", "isa", "thr",
             "median", "min", "max", "cpu%", "ns/smp", "x scal", "x thr", "vs best peer");
@@ -202,6 +202,17 @@ static void print_header(const bgt_bench_result *res)
     putchar('\n');
 }
 
+/* The header, the table of rows and the peers left out. */
+static void print_text(const bgt_bench_result *res, const char *missing)
+{
+    print_header(res);
+    print_rows(stdout, res);
+    if (missing)
+        printf("note: peers not built in (library or C++ compiler absent at configure "
+               "time):%s\n",
+               missing);
+}
+
 /* Progress goes to stderr, so it never mixes into the table or the JSON. */
 static void on_measuring(void *ctx, const bgt_bench_row *r)
 {
@@ -248,12 +259,7 @@ static int run_bench(void *args, const char *const *pos, int npos)
         if (missing)
             fprintf(stderr, "bumpgrad bench: note: peers not built in:%s\n", missing);
     } else {
-        print_header(&res);
-        print_table(stdout, &res);
-        if (missing)
-            printf("note: peers not built in (library or C++ compiler absent at configure "
-                   "time):%s\n",
-                   missing);
+        print_text(&res, missing);
     }
     bgt_bench_result_free(&res);
     if (fflush(stdout) != 0 || ferror(stdout))
