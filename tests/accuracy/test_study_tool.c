@@ -4,11 +4,13 @@
  * accuracy run, the callbacks, and a failing output folder. Measured facts of
  * the studies themselves are checked by test_study.py. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "study/study.h"
+#include "study/stability.h" /* st_json_num: the summary's numbers */
 #include "common/check.h"
 
 typedef struct seen {
@@ -136,6 +138,20 @@ int main(void)
     CHECK(exists(stab, "STABILITY.md") && exists(stab, "summary.json") && exists(stab, "inward.csv") &&
               exists(stab, "listing1_det.csv") && !exists(stab, "inward.gp"),
           "stability: report, summary and CSVs written, no chart");
+
+    /* summary.json is JSON: a number that is not finite is null, not nan. */
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&buf, &len);
+    bgt_err je;
+    st_out jo = {.json = mem, .json_first = 1, .e = &je};
+    st_json_num(&jo, "a", 0.25);
+    st_json_num(&jo, "b", NAN);
+    st_json_num(&jo, "c", -INFINITY);
+    fclose(mem);
+    CHECK(buf && !strcmp(buf, "\n  \"a\": 0.25,\n  \"b\": null,\n  \"c\": null"),
+          "summary numbers: NaN and -inf are null: %s", buf ? buf : "(none)");
+    free(buf);
 
     char cmd[700];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
