@@ -114,16 +114,7 @@ static int parse_compare(const char *cmd, const char *opt, char *text, void *fie
 static int parse_size(const char *cmd, const char *opt, char *text, void *field)
 {
     render_opts *o = field;
-    char *end;
-    long a = strtol(text, &end, 10);
-    if (end == text || (*end != 'x' && *end != 'X'))
-        return cli_usage_error(cmd, "%s: expected WxH (e.g. 384x384), got \"%s\"", opt, text);
-    const char *s2 = end + 1;
-    long b = strtol(s2, &end, 10);
-    if (end == s2 || *end || a < 2 || b < 2 || a > 16384 || b > 16384)
-        return cli_usage_error(cmd, "%s: expected WxH with 2..16384 each, got \"%s\"", opt, text);
-    o->width = (int)a, o->height = (int)b;
-    return 0;
+    return cli_parse_size(cmd, opt, text, 2, 0, "pixels", &o->width, &o->height);
 }
 
 static int format_size(const void *field, char *buf, size_t len)
