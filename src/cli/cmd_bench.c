@@ -14,6 +14,7 @@
 #include "args.h"
 #include "bench/bench.h"
 #include "cli.h"
+#include "kernels/kernels.h" /* bg_isa_list */
 
 static const char *const CMD = "bench";
 #define BENCH_DEFAULT_SAMPLES ((size_t)1 << 22)
@@ -39,9 +40,11 @@ static void bench_defaults(void *p)
 static int parse_isa(const char *cmd, const char *opt, char *text, void *field)
 {
     bg_isa want;
-    if (bg_isa_parse(text, &want) != BG_OK)
-        return cli_usage_error(cmd, "%s: unknown ISA '%s' (scalar, sse2, avx2, avx512, neon)", opt,
-                               text);
+    if (bg_isa_parse(text, &want) != BG_OK) {
+        char all[96];
+        bg_isa_list(all, sizeof all, 0);
+        return cli_usage_error(cmd, "%s: unknown ISA '%s' (%s)", opt, text, all);
+    }
     *(int *)field = (int)want;
     return 0;
 }
