@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Internal: the kernel table that every ISA fills, and the dispatch entry points.
  * Kernels are written once in *_tmpl.c against the vector vocabulary of vec_*.h
- * and compiled per ISA (STYLE.md 3); this header is the only contract between
+ * and compiled per ISA (docs/DESIGN.md, rule 3); this header is the only contract between
  * src/core and src/kernels. */
 #ifndef BUMPGRAD_KERNELS_H
 #define BUMPGRAD_KERNELS_H
