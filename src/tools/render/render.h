@@ -47,6 +47,7 @@ typedef struct render_stats {
     double mean_deg, p99_deg, max_deg;
     double inward_fraction;
 } render_stats;
+
 /* The presets of --preset: the paper's figures (docs/FIGURES.md). */
 typedef enum render_preset { PRESET_NONE = 0, PRESET_FIG1, PRESET_FIG2, PRESET_FIG3, PRESET_FIG4 } render_preset;
 
