@@ -9,7 +9,7 @@
 #include "args.h"
 #include "cli.h"
 #include "json.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh.h"
 
 static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
 {
@@ -307,7 +307,7 @@ static int run_mesh(void *args, const char *const *pos, int npos)
         }
         if (out_path)
             fprintf(fp, "wrote %s (%s)\n", out_path,
-                    mesh_out_format_name(mesh_out_format_of(out_path), ascii));
+                    r.output_format);
         fprintf(fp, "time: load %.3f s, normals %.3f s, height+perturb %.3f s (%d threads), "
                     "bake %.3f s, write %.3f s\n",
                 r.t_load, r.t_normals, r.t_perturb, r.threads, r.t_bake, r.t_write);

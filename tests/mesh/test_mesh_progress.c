@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh.h"
 
 static int failures;
 /* one line per check, "ok:" or "FAIL:", counted */

@@ -21,7 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "common/parallel.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 #include "mesh/mesh_uv.h"
 
 typedef struct bake_ctx {

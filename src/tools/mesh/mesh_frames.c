@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 #include "vecmath.h"
 
 static bg_dvec3 vertex_pos(const bg_mesh *m, uint32_t i)

@@ -17,7 +17,7 @@
 #include "common/parallel.h"
 #include "common/safe_file.h"
 #include "mesh/mesh_gltf.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 
 /* Vertices per parallel chunk: large enough that the per-chunk scratch and the
  * chunk bookkeeping are noise, small enough to balance two to 64 workers. */
@@ -712,6 +712,8 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     if (o->output && (st = out_commit(&w, e)) != BG_OK)
         goto done;
 
+    if (o->output)
+        r->output_format = mesh_out_format_name(mesh_out_format_of(o->output), o->ascii);
     double t_end = now_seconds();
     r->t_load = t_load - t0;
     r->t_normals = t_normals - t_load;

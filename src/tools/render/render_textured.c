@@ -25,7 +25,8 @@
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
 #include "mesh/mesh_texpath.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_frames.h"
+#include "mesh/mikktspace.h"
 #include "render/render.h"
 #include "vecmath.h"
 
