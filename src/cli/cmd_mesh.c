@@ -65,7 +65,7 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
 
 typedef struct mesh_args {
     const char *bake_path, *format;
-    int method, compare, ascii, recompute, json, threads, join, bake_depth;
+    int method, compare, ascii, recompute, json, threads, join, bake_depth, gltf_normals;
     mesh_bake_opts bake;
     bgt_height h;
 } mesh_args;
@@ -79,6 +79,9 @@ static const char *const space_choices[] = {"tangent", "object", NULL};
 static const int space_values[] = {MESH_BAKE_TANGENT, MESH_BAKE_OBJECT};
 static const char *const tangents_choices[] = {"mikktspace", "file", NULL};
 static const int tangents_values[] = {MESH_TANGENTS_MIKK, MESH_TANGENTS_FILE};
+static const char *const gltf_normals_choices[] = {"auto", "original", "bumped", NULL};
+static const int gltf_normals_values[] = {MESH_GLTF_NORMALS_AUTO, MESH_GLTF_NORMALS_ORIGINAL,
+                                          MESH_GLTF_NORMALS_BUMPED};
 static const char *const y_choices[] = {"+y", "-y", NULL};
 static const char *const depth_choices[] = {"8", "16", "half", "float", NULL};
 static const int depth_values[] = {BG_PIXEL_U8, BG_PIXEL_U16, BG_PIXEL_HALF, BG_PIXEL_F32};
@@ -130,6 +133,11 @@ static const cli_opt mesh_opts_table[] = {
      .help = "auto (keep PLY vertices one for one, merge identical vertices of other formats), "
              "always, never; a mesh with a NaN/Inf position is never merged",
      .choices = join_choices, .choice_values = join_values},
+    {.name = "gltf-normals", .kind = CLI_KIND_CHOICE, .offset = A(gltf_normals),
+     .metavar = "N", .help = "NORMAL of OUT.glb/.gltf: auto (the original normals when a map is "
+                             "baked, so the map bumps once; else the bumped ones), original, or "
+                             "bumped (then no material uses the map)",
+     .choices = gltf_normals_choices, .choice_values = gltf_normals_values},
     {.name = "ascii", .kind = CLI_KIND_FLAG, .offset = A(ascii),
      .help = "ASCII PLY instead of binary little-endian"},
     CLI_OPT_INCLUDE(A(threads), cli_threads_opts, NULL),
@@ -195,9 +203,16 @@ CLI_SPEC(mesh,
         "(perturbed unit normal), ox oy oz (original unit normal), height, then\n"
         "compare_deg with --compare, then s t if IN has UVs; faces as triangles.\n"
         "A vertex without a valid normal has (0,0,0) in nx..nz and ox..oz.\n"
-        "OUT.glb / OUT.gltf (glTF 2.0): POSITION, NORMAL (perturbed), TEXCOORD_0 and\n"
-        "TANGENT (mikkTSpace of the perturbed normals, VEC4 with the sign) if IN has\n"
-        "UVs. OUT.obj: positions, perturbed normals, UVs. Other extensions: refused.\n"
+        "OUT.glb / OUT.gltf (glTF 2.0), to load in a viewer: POSITION, NORMAL,\n"
+        "TEXCOORD_0 and TANGENT (VEC4 with the sign) if IN has UVs, one primitive per\n"
+        "material of IN (its name and PNG/JPEG base colour texture kept). With a\n"
+        "tangent-space map baked, NORMAL holds the ORIGINAL normals, TANGENT the frame\n"
+        "the map was encoded in, and every material's normalTexture is the map\n"
+        "(embedded in .glb; referenced beside .gltf, or embedded as an 8-bit PNG when\n"
+        "the map is not PNG/JPEG): the viewer applies the bump once. Without a map,\n"
+        "NORMAL holds the bumped normals (and TANGENT their mikkTSpace frame);\n"
+        "--gltf-normals bumped asks for them with a map too (no material uses it then).\n"
+        "OUT.obj: positions, perturbed normals, UVs. Other extensions: refused.\n"
         "OUT \"-\" writes the PLY to standard output (the summary then goes to stderr).\n",
     .opts = mesh_table,
     .more = "UV islands that overlap in the map are counted in the summary (the later\n"
@@ -240,7 +255,7 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                           .height = &a.h, .method = method, .compare = a.compare, .ascii = ascii,
                           .recompute_normals = a.recompute, .join = (unsigned)a.join,
                           .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth,
-                          .bake_format = a.format};
+                          .bake_format = a.format, .gltf_normals = a.gltf_normals};
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     opts.progress = &sink;
@@ -308,6 +323,16 @@ static int run_mesh(void *args, const char *const *pos, int npos)
         if (out_path)
             fprintf(fp, "wrote %s (%s)\n", out_path,
                     r.output_format);
+        if (out_path && r.gltf_materials + r.gltf_bumped_normals + r.gltf_map)
+            fprintf(fp, "glTF: %s normals, %zu materials, %zu base colour textures kept (%zu left "
+                        "out: not PNG/JPEG or not found), normalTexture: %s\n",
+                    r.gltf_bumped_normals ? "bumped" : "original", r.gltf_materials,
+                    r.gltf_textures, r.gltf_textures_dropped,
+                    r.gltf_map == 2 ? "the map as an embedded 8-bit PNG"
+                    : r.gltf_map    ? "the map"
+                                    : "none");
+        if (out_path && r.gltf_map_note)
+            fprintf(fp, "glTF: %s\n", r.gltf_map_note);
         fprintf(fp, "time: load %.3f s, normals %.3f s, height+perturb %.3f s (%d threads), "
                     "bake %.3f s, write %.3f s\n",
                 r.t_load, r.t_normals, r.t_perturb, r.threads, r.t_bake, r.t_write);

@@ -53,6 +53,13 @@ typedef struct mesh_bake_stats {
     size_t tiles;            /* images handed to the sink */
     int tile_udim[MESH_UDIM_MAX_TILES]; /* their UDIM numbers in order (1001 without udim) */
 } mesh_bake_stats;
+/* The vertex normals of an OUT.glb / OUT.gltf. */
+typedef enum mesh_gltf_normals {
+    MESH_GLTF_NORMALS_AUTO = 0,     /* original with a baked map, else bumped */
+    MESH_GLTF_NORMALS_ORIGINAL = 1, /* the unbumped normals (the map carries the bump) */
+    MESH_GLTF_NORMALS_BUMPED = 2    /* the bumped normals; then no material uses the map */
+} mesh_gltf_normals;
+
 /* ---- the whole job of `bumpgrad mesh` (mesh_job.c) ---- */
 typedef struct bgt_mesh_opts {
     const char *input;       /* any format assimp reads (required) */
@@ -74,6 +81,7 @@ typedef struct bgt_mesh_opts {
                               * method and threads are taken from above */
     int bake_depth;          /* a bg_pixel_type, or -1: half for .exr, else 8 bits */
     const bgt_progress *progress; /* the bake's progress (texels), may be NULL */
+    int gltf_normals;        /* a mesh_gltf_normals */
 } bgt_mesh_opts;
 
 /* What `bumpgrad mesh` prints: the mesh, the normals, the perturbation
@@ -92,6 +100,12 @@ typedef struct bgt_mesh_result {
     mesh_bake_stats bake;
     int threads;                 /* worker threads used */
     const char *output_format;   /* OUT's format in words ("binary glTF 2.0", ...), or NULL */
+    /* glTF output: */
+    int gltf_bumped_normals;     /* NORMAL holds the bumped normals */
+    int gltf_map;                /* 0: no material uses the map; 1: the normalTexture is the
+                                  * map's file; 2: an 8-bit PNG of it (embedded) */
+    const char *gltf_map_note;   /* why the map is not a normalTexture, or NULL */
+    size_t gltf_materials, gltf_textures, gltf_textures_dropped;
     double t_load, t_normals, t_perturb, t_bake, t_write; /* seconds */
 } bgt_mesh_result;
 

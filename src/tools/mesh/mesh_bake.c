@@ -326,9 +326,9 @@ static bg_status choose_tiles(const bg_mesh *m, const mesh_bake_opts *o,
 /* The tangent frame of every corner (4 floats: xyz and the bitangent sign)
  * for a tangent-space bake: the file's per-vertex frames, as a renderer
  * given them uses them, or mikkTSpace's. *ctan stays NULL in object space. */
-static bg_status corner_tangents(const bg_mesh *m, const float *nx, const float *ny,
-                                 const float *nz, const mesh_bake_opts *o, float **ctan,
-                                 mesh_bake_stats *stats, bgt_err *e)
+bg_status mesh_bake_corner_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                                    const float *nz, const mesh_bake_opts *o, float **ctan,
+                                    mesh_bake_stats *stats, bgt_err *e)
 {
     size_t C = 3 * m->triangle_count;
     *ctan = NULL;
@@ -481,7 +481,7 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         free(island);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
     }
-    if ((rc = corner_tangents(m, nx, ny, nz, o, &ctan, stats, e)) != BG_OK) {
+    if ((rc = mesh_bake_corner_tangents(m, nx, ny, nz, o, &ctan, stats, e)) != BG_OK) {
         free(island);
         return rc;
     }

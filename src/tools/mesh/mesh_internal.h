@@ -42,6 +42,13 @@ typedef bg_status (*mesh_bake_sink)(void *ctx, int udim, const bg_image *img, bg
 bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
                     const bgt_height *h, const mesh_bake_opts *o, mesh_bake_sink sink,
                     void *sink_ctx, mesh_bake_stats *stats, bgt_err *e);
+/* The tangent frame of every corner (4 floats: xyz and the bitangent sign)
+ * that a tangent-space bake with `o` encodes in: the file's per-vertex frames
+ * (o->tangents == MESH_TANGENTS_FILE) or mikkTSpace's of the unit vertex
+ * normals nx..nz. *ctan (malloc'd) stays NULL in object space. */
+bg_status mesh_bake_corner_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                                    const float *nz, const mesh_bake_opts *o, float **ctan,
+                                    mesh_bake_stats *stats, bgt_err *e);
 /* The bytes a W x H tile needs while baking (per-texel buffers + the image). */
 double mesh_bake_tile_bytes(int width, int height);
 

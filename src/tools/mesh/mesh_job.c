@@ -284,6 +284,9 @@ typedef struct map_out {
     size_t n;
     char *tmp[MESH_UDIM_MAX_TILES], *final[MESH_UDIM_MAX_TILES];
     double t_write;
+    int gltf;             /* 0, or 1 (.glb) / 2 (.gltf): keep the map for OUT's material */
+    const char *out_path; /* OUT, for the glTF's relative URI */
+    mesh_gltf_map gmap;
 } map_out;
 
 /* path with every <UDIM> replaced by the four-digit tile number */
@@ -354,6 +357,9 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
                         : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
                                                       : BG_ERR_IO,
                         "normal map %s: %s", final, err);
+    if (mo->gltf && !mo->gmap.ready)
+        return mesh_gltf_map_image(&mo->gmap, img, to_stdout ? NULL : target, final, mo->out_path,
+                                   mo->gltf == 1, e);
     return BG_OK;
 }
 
@@ -389,6 +395,7 @@ static void map_free(map_out *mo)
         free(mo->final[i]);
     }
     mo->n = 0;
+    mesh_gltf_map_free(&mo->gmap);
 }
 
 /* Sum the chunk statistics in chunk order into *r. */
@@ -479,6 +486,27 @@ static bg_status bake_map(const bgt_mesh_opts *o, const bg_mesh *m, const vertex
     mo->path = o->bake_path;
     mo->format = o->bake_format; /* the shim takes "exr", ".exr" or "EXR" alike */
     mo->type = (bg_pixel_type)o->bake_depth;
+    mo->out_path = o->output;
+    mesh_out_format f = o->output ? mesh_out_format_of(o->output) : MESH_OUT_PLY;
+    r->gltf_map_note = NULL;
+    if (f == MESH_OUT_GLB || f == MESH_OUT_GLTF) {
+        /* The map becomes the materials' normalTexture unless a viewer
+         * would decode it wrongly (glTF normal textures are tangent space,
+         * green up, one image per material). */
+        if (o->gltf_normals == MESH_GLTF_NORMALS_BUMPED)
+            r->gltf_map_note = "--gltf-normals bumped: the normals carry the bump, so no material "
+                               "uses the map (it would bump twice)";
+        else if (o->bake.space != MESH_BAKE_TANGENT)
+            r->gltf_map_note = "an object-space map: glTF normal textures are tangent space, so "
+                               "no material uses it";
+        else if (o->bake.green_down)
+            r->gltf_map_note = "--normal-map-y -y: glTF normal textures are green up (+y), so no "
+                               "material uses the map";
+        else if (mo->udim)
+            r->gltf_map_note = "a <UDIM> map: the glTF's materials do not use the tiles yet";
+        else
+            mo->gltf = f == MESH_OUT_GLB ? 1 : 2;
+    }
     if (o->bake_depth < 0)
         mo->type = map_is_exr(o->bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
     return mesh_bake(m, job->ox, job->oy, job->oz, job->h, &bake, map_sink, mo, &r->bake, e);
@@ -536,27 +564,59 @@ static bg_status out_open(mesh_out *w, const bg_mesh *m, const vertex_job *job, 
     return bgt_safe_open(&w->of, w->path, e);
 }
 
-/* glTF: TANGENT is the mikkTSpace frame of the bumped normals, which is what a
- * glTF viewer computes from this file when it ignores the attribute, so both
- * ways agree. */
-static bg_status out_gltf(mesh_out *w, const bg_mesh *m, const vertex_job *job, bgt_err *e)
+/* glTF. With a baked map (and not --gltf-normals bumped): NORMAL holds the
+ * original normals and TANGENT the frames the map was encoded in, and every
+ * material's normalTexture is the map, so a viewer applies the bump once.
+ * Without one: the bumped normals and their mikkTSpace frames, which is what
+ * a glTF viewer computes from this file when it ignores the attribute. */
+static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
+                          const vertex_job *job, map_out *mo, bgt_mesh_result *r, bgt_err *e)
 {
     size_t nv = m->vertex_count, nt = m->triangle_count;
+    int bumped = o->gltf_normals == MESH_GLTF_NORMALS_BUMPED ||
+                 (o->gltf_normals == MESH_GLTF_NORMALS_AUTO && !o->bake_path);
+    const float *nx = bumped ? job->nx : job->ox, *ny = bumped ? job->ny : job->oy;
+    const float *nz = bumped ? job->nz : job->oz;
+    r->gltf_bumped_normals = bumped;
+    bg_status st;
     if (m->u) {
-        w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
-        bgt_mikk_mesh mm = {nv, nt, m->indices, m->px, m->py, m->pz,
-                            job->nx, job->ny, job->nz, m->u, m->v};
-        if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
-            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
+        if (!bumped && o->bake_path && o->bake.space == MESH_BAKE_TANGENT) {
+            mesh_bake_stats scratch;
+            memset(&scratch, 0, sizeof scratch);
+            if ((st = mesh_bake_corner_tangents(m, nx, ny, nz, &o->bake, &w->gltf_tan, &scratch,
+                                                e)) != BG_OK)
+                return st;
+        } else {
+            w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
+            bgt_mikk_mesh mm = {nv, nt, m->indices, m->px, m->py, m->pz, nx, ny, nz, m->u, m->v};
+            if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
+                return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
+        }
     }
+    const int binary = w->fmt == MESH_OUT_GLB;
+    mesh_gltf_scene sc;
+    if ((st = mesh_gltf_scene_build(&sc, o->input, m, mo->gmap.ready ? &mo->gmap : NULL, w->path,
+                                    binary, e)) != BG_OK) {
+        mesh_gltf_scene_free(&sc);
+        return st;
+    }
+    r->gltf_map = mo->gmap.ready ? 1 + mo->gmap.converted : 0;
+    r->gltf_materials = sc.material_count;
+    r->gltf_textures = sc.textures_kept;
+    r->gltf_textures_dropped = sc.textures_dropped;
     char gen[96];
     snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
     mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
                       .px = m->px, .py = m->py, .pz = m->pz,
-                      .nx = job->nx, .ny = job->ny, .nz = job->nz,
+                      .nx = nx, .ny = ny, .nz = nz,
                       .u = m->u, .v = m->v, .corner_tangents = w->gltf_tan,
-                      .indices = m->indices, .generator = gen};
-    return mesh_gltf_write(w->devout ? w->devout : w->of.fp, w->fmt == MESH_OUT_GLB, &g, e);
+                      .indices = m->indices, .generator = gen,
+                      .tri_material = m->material_count > 1 ? m->material : NULL,
+                      .material_count = sc.material_count, .materials = sc.materials,
+                      .image_count = sc.image_count, .images = sc.images};
+    st = mesh_gltf_write(w->devout ? w->devout : w->of.fp, binary, &g, e);
+    mesh_gltf_scene_free(&sc);
+    return st;
 }
 
 /* PLY: the per-vertex table of docs/MESH.md, the run's settings in a comment. */
@@ -605,7 +665,8 @@ static bg_status out_commit(mesh_out *w, bgt_err *e)
 
 /* OUT written to its temporary (out_commit puts it in place). */
 static bg_status out_write(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
-                           const vertex_job *job, int file_normals, bgt_err *e)
+                           const vertex_job *job, int file_normals, map_out *mo,
+                           bgt_mesh_result *r, bgt_err *e)
 {
     w->path = o->output;
     w->fmt = mesh_out_format_of(o->output);
@@ -613,7 +674,7 @@ static bg_status out_write(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m
     if (st != BG_OK)
         return st;
     if (w->fmt == MESH_OUT_GLB || w->fmt == MESH_OUT_GLTF)
-        return out_gltf(w, m, job, e);
+        return out_gltf(w, o, m, job, mo, r, e);
     if (w->fmt == MESH_OUT_PLY)
         return out_ply(w, o, m, job, file_normals, e);
     return BG_OK;
@@ -705,7 +766,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
 
     /* OUT goes to a temporary file first and is renamed only after the map
      * is in place too, so a failing bake leaves the old OUT alone. */
-    if (o->output && (st = out_write(&w, o, &m, &job, file_normals, e)) != BG_OK)
+    if (o->output && (st = out_write(&w, o, &m, &job, file_normals, &mo, r, e)) != BG_OK)
         goto done;
     if (o->bake_path && (st = map_commit(&mo, e)) != BG_OK)
         goto done;
