@@ -65,13 +65,14 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
 
 typedef struct mesh_args {
     const char *bake_path, *format;
-    int method, compare, ascii, recompute, json, threads, join, bake_depth, gltf_normals;
+    int method, compare, ascii, recompute, json, threads, join, bake_depth, gltf_normals, units;
     mesh_bake_opts bake;
     bgt_height h;
 } mesh_args;
 
 _Static_assert(sizeof(mesh_bake_space) == sizeof(int), "mesh_bake_space is stored as int");
 _Static_assert(sizeof(mesh_tangent_source) == sizeof(int), "mesh_tangent_source is stored as int");
+_Static_assert(sizeof(mesh_bake_filter) == sizeof(int), "mesh_bake_filter is stored as int");
 
 static const char *const join_choices[] = {"auto", "always", "never", NULL};
 static const int join_values[] = {BG_MESH_JOIN_AUTO, BG_MESH_JOIN_ALWAYS, BG_MESH_JOIN_NEVER};
@@ -82,6 +83,10 @@ static const int tangents_values[] = {MESH_TANGENTS_MIKK, MESH_TANGENTS_FILE};
 static const char *const gltf_normals_choices[] = {"auto", "original", "bumped", NULL};
 static const int gltf_normals_values[] = {MESH_GLTF_NORMALS_AUTO, MESH_GLTF_NORMALS_ORIGINAL,
                                           MESH_GLTF_NORMALS_BUMPED};
+static const char *const filter_choices[] = {"footprint", "none", NULL};
+static const int filter_values[] = {MESH_FILTER_FOOTPRINT, MESH_FILTER_NONE};
+static const char *const units_choices[] = {"model", "file", NULL};
+static const int units_values[] = {MESH_UNITS_MODEL, MESH_UNITS_FILE};
 static const char *const y_choices[] = {"+y", "-y", NULL};
 static const char *const depth_choices[] = {"8", "16", "half", "float", NULL};
 static const int depth_values[] = {BG_PIXEL_U8, BG_PIXEL_U16, BG_PIXEL_HALF, BG_PIXEL_F32};
@@ -94,7 +99,8 @@ static void mesh_defaults(void *p)
     a->join = BG_MESH_JOIN_AUTO;
     a->bake_depth = -1; /* half for .exr, else 8 bits */
     a->bake.space = MESH_BAKE_TANGENT;
-    a->bake.padding = 4;
+    a->bake.padding = 16;
+    a->bake.samples = MESH_DEFAULT_SAMPLES;
     a->bake.tangents = MESH_TANGENTS_MIKK;
     bgt_height_init(&a->h);
 }
@@ -133,6 +139,11 @@ static const cli_opt mesh_opts_table[] = {
      .help = "auto (keep PLY vertices one for one, merge identical vertices of other formats), "
              "always, never; a mesh with a NaN/Inf position is never merged",
      .choices = join_choices, .choice_values = join_values},
+    {.name = "units", .kind = CLI_KIND_CHOICE, .offset = A(units), .metavar = "U",
+     .help = "units of --frequency and --amplitude: model (the default: per model radius, the "
+             "model scaled into the unit sphere about its bounding box's centre, as render "
+             "--mesh does; the same bake at any scale) or file (the file's own units)",
+     .choices = units_choices, .choice_values = units_values},
     {.name = "gltf-normals", .kind = CLI_KIND_CHOICE, .offset = A(gltf_normals),
      .metavar = "N", .help = "NORMAL of OUT.glb/.gltf: auto (the original normals when a map is "
                              "baked, so the map bumps once; else the bumped ones), original, or "
@@ -163,8 +174,20 @@ static const cli_opt mesh_bake_table[] = {
     {.name = "space", .kind = CLI_KIND_CHOICE, .offset = A(bake.space), .metavar = "S",
      .help = "tangent (mikkTSpace convention) or object", .choices = space_choices,
      .choice_values = space_values},
+    {.name = "filter", .kind = CLI_KIND_CHOICE, .offset = A(bake.filter), .metavar = "F",
+     .help = "footprint (the default: each texel's height keeps only the octaves its "
+             "footprint on the surface can show, from its triangle's UV Jacobian, as render "
+             "does; a --height-grid is not filtered) or none (every octave at the sample point)",
+     .choices = filter_choices, .choice_values = filter_values},
+    {.name = "samples", .kind = CLI_KIND_INT, .offset = A(bake.samples), .metavar = "N",
+     .help = "N x N stratified samples per texel, each with its share of the footprint, "
+             "averaged (default 2; 1 = the texel centre alone; more for a --height-grid or a "
+             "smoother map)",
+     .lo = 1, .hi = MESH_MAX_SAMPLES},
     {.name = "padding", .kind = CLI_KIND_INT, .offset = A(bake.padding), .metavar = "P",
-     .help = "dilate the baked texels into empty ones P times", .lo = 0, .hi = 4096},
+     .help = "dilate the baked texels into empty ones P times (default 16, as Blender); an "
+             "empty texel takes the normals of one UV island, never a mix of two",
+     .lo = 0, .hi = 4096},
     {.name = "bake-depth", .kind = CLI_KIND_CHOICE, .offset = A(bake_depth), .metavar = "D",
      .help = "8, 16, half or float (default: half for .exr, else 8)", .flags = CLI_NO_DEFAULT,
      .choices = depth_choices, .choice_values = depth_values},
@@ -255,7 +278,8 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                           .height = &a.h, .method = method, .compare = a.compare, .ascii = ascii,
                           .recompute_normals = a.recompute, .join = (unsigned)a.join,
                           .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth,
-                          .bake_format = a.format, .gltf_normals = a.gltf_normals};
+                          .bake_format = a.format, .gltf_normals = a.gltf_normals,
+                          .units = a.units};
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     opts.progress = &sink;
@@ -264,6 +288,32 @@ static int run_mesh(void *args, const char *const *pos, int npos)
     bg_status st = bgt_mesh_run(&opts, &r, &err);
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
+    /* Nothing silent: what the map leaves out, and a bump the map or the
+     * model cannot show (on stderr, also with --quiet). */
+    if (bake_path && r.bake.outside_triangles) {
+        char tiles[128] = "";
+        size_t n = r.bake.outside_tile_count < 8 ? r.bake.outside_tile_count : 8;
+        for (size_t k = 0; k < n; k++)
+            snprintf(tiles + strlen(tiles), sizeof tiles - strlen(tiles), "%s%d", k ? ", " : "",
+                     r.bake.outside_tiles[k]);
+        cli_warn(cmd, "%zu triangles have UVs wholly outside the unit square (UDIM tile 1001) "
+                      "and are not in the map; the UVs reach %zu other tile%s (%s%s); name the "
+                      "map with <UDIM> (e.g. n.<UDIM>.png) to bake every tile",
+                 r.bake.outside_triangles, r.bake.outside_tile_count,
+                 r.bake.outside_tile_count == 1 ? "" : "s", n ? tiles : "outside 1001..1999",
+                 r.bake.outside_tile_count > n ? ", ..." : "");
+    }
+    if (bake_path && r.finest_feature > 0 && r.finest_feature < r.bake.texel_size * r.unit)
+        cli_warn(cmd, "the finest bump feature (%.4g file units) is smaller than a texel "
+                      "(%.4g on the surface): the map cannot hold it%s; raise --size, or lower "
+                      "--octaves or --frequency",
+                 r.finest_feature, r.bake.texel_size * r.unit,
+                 bake.filter == MESH_FILTER_FOOTPRINT ? " (the footprint filter fades it out)"
+                                                      : " (it aliases: --filter none)");
+    if (r.coarsest_feature > 0 && r.model_radius > 0 && r.coarsest_feature > 4.0 * r.model_radius)
+        cli_warn(cmd, "the bump is coarser than the model: its largest feature (%.4g file units) "
+                      "exceeds the model's size (diameter %.4g); raise --frequency",
+                 r.coarsest_feature, 2.0 * r.model_radius);
     if (a.json) {
         print_json(&opts, &r);
         return CLI_OK;
@@ -301,6 +351,14 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                     bake_path, bake.width, bake.height,
                     bake.space == MESH_BAKE_TANGENT ? "tangent" : "object", r.bake.covered,
                     r.bake.padded, r.bake.skipped);
+        fprintf(fp, "scale: %s; model radius %.6g file units; height features from %.4g down to "
+                    "%.4g file units",
+                r.unit == 1.0 && a.units == MESH_UNITS_FILE ? "--units file" : "--units model",
+                r.model_radius, r.coarsest_feature, r.finest_feature);
+        if (bake_path)
+            fprintf(fp, "; a texel spans %.4g file units on the surface (mean)",
+                    r.bake.texel_size * r.unit);
+        fprintf(fp, "\n");
         if (bake_path && bake.space == MESH_BAKE_TANGENT && bake.tangents == MESH_TANGENTS_FILE)
             fprintf(fp, "tangents: from the file, green %s\n", bake.green_down ? "-y" : "+y");
         else if (bake_path && bake.space == MESH_BAKE_TANGENT)

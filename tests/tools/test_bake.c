@@ -259,6 +259,7 @@ static void test_mesh(void)
     bgt_mesh_opts o = {.input = path_in("q.obj"), .output = path_in("q.ply"), .height = &h,
                        .method = BG_PERTURB_SURFGRAD, .compare = 1, .join = BG_MESH_JOIN_AUTO,
                        .threads = 2, .bake_depth = -1,
+                       .units = MESH_UNITS_FILE, /* the recomputation below is in file units */
                        .bake = {.width = 16, .height = 8, .space = MESH_BAKE_TANGENT, .padding = 2}};
     bgt_mesh_result r;
     bgt_err e;

@@ -31,6 +31,16 @@ typedef enum mesh_tangent_source {
 #define MESH_UDIM_TOKEN "<UDIM>"
 #define MESH_UDIM_MAX_TILES 100
 #define MESH_UDIM_V_TILES 899
+/* How a texel's height is band-limited (docs/MESH.md, "Anti-aliasing"). */
+typedef enum mesh_bake_filter {
+    MESH_FILTER_FOOTPRINT = 0, /* octaves finer than the texel's object-space footprint (from
+                                * its triangle's UV Jacobian) fade out (bg_octave_weight);
+                                * a VDB height is not filtered (use samples) */
+    MESH_FILTER_NONE = 1       /* every octave at the sample point */
+} mesh_bake_filter;
+#define MESH_MAX_SAMPLES 16
+#define MESH_DEFAULT_SAMPLES 2
+
 typedef struct mesh_bake_opts {
     int width, height;   /* per tile */
     mesh_bake_space space;
@@ -41,6 +51,9 @@ typedef struct mesh_bake_opts {
     int green_down;      /* store -m.y (DirectX normal maps, --normal-map-y -y) */
     int udim;            /* bake every UDIM tile (else the unit square only, tile 1001) */
     const bgt_progress *progress; /* texels shaded, over all tiles; may be NULL */
+    mesh_bake_filter filter;
+    int samples;         /* N: N x N stratified samples per texel, averaged (1: the texel
+                          * centre; 0: MESH_DEFAULT_SAMPLES), at most MESH_MAX_SAMPLES */
 } mesh_bake_opts;
 typedef struct mesh_bake_stats {
     size_t covered;      /* texels inside some triangle */
@@ -50,6 +63,12 @@ typedef struct mesh_bake_stats {
     size_t overlap_texels;   /* texel centres strictly inside two or more triangles */
     size_t overlap_islands;  /* islands with a triangle in such an overlap */
     bgt_mikk_stats mikk;     /* of the mikkTSpace tangents (tangent space, MESH_TANGENTS_MIKK) */
+    /* Without udim: triangles whose UVs lie wholly outside the unit square
+     * (left out of the map), and the first UDIM tiles they touch. */
+    size_t outside_triangles;
+    size_t outside_tile_count;   /* tiles other than 1001 that the UVs touch */
+    int outside_tiles[8];        /* the first of them, ascending */
+    double texel_size;           /* mean object-space footprint of a covered texel (model units) */
     size_t tiles;            /* images handed to the sink */
     int tile_udim[MESH_UDIM_MAX_TILES]; /* their UDIM numbers in order (1001 without udim) */
 } mesh_bake_stats;
@@ -59,6 +78,13 @@ typedef enum mesh_gltf_normals {
     MESH_GLTF_NORMALS_ORIGINAL = 1, /* the unbumped normals (the map carries the bump) */
     MESH_GLTF_NORMALS_BUMPED = 2    /* the bumped normals; then no material uses the map */
 } mesh_gltf_normals;
+
+/* The units of --frequency and --amplitude (docs/MESH.md, "Scale"). */
+typedef enum mesh_units {
+    MESH_UNITS_MODEL = 0, /* per model radius: the height sees the model scaled into the unit
+                           * sphere (mesh_frames.h), as `render --mesh` does */
+    MESH_UNITS_FILE = 1   /* the file's own units */
+} mesh_units;
 
 /* ---- the whole job of `bumpgrad mesh` (mesh_job.c) ---- */
 typedef struct bgt_mesh_opts {
@@ -82,6 +108,7 @@ typedef struct bgt_mesh_opts {
     int bake_depth;          /* a bg_pixel_type, or -1: half for .exr, else 8 bits */
     const bgt_progress *progress; /* the bake's progress (texels), may be NULL */
     int gltf_normals;        /* a mesh_gltf_normals */
+    int units;               /* a mesh_units */
 } bgt_mesh_opts;
 
 /* What `bumpgrad mesh` prints: the mesh, the normals, the perturbation
@@ -100,6 +127,10 @@ typedef struct bgt_mesh_result {
     mesh_bake_stats bake;
     int threads;                 /* worker threads used */
     const char *output_format;   /* OUT's format in words ("binary glTF 2.0", ...), or NULL */
+    double model_centre[3], model_radius; /* the model frame (file units) */
+    double unit;                 /* one height unit in file units: model_radius, or 1 */
+    double finest_feature, coarsest_feature; /* the height's finest and coarsest lattice
+                                  * cells, file units (0 for a VDB height) */
     /* glTF output: */
     int gltf_bumped_normals;     /* NORMAL holds the bumped normals */
     int gltf_map;                /* 0: no material uses the map; 1: the normalTexture is the

@@ -31,4 +31,16 @@ size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz);
 /* Signed UV area (twice) of triangle t: > 0 keeps orientation, < 0 mirrors. */
 double mesh_uv_signed_area(const bg_mesh *m, size_t t);
 
+/* ---- the model frame: one unit convention for `mesh` and `render --mesh` ----
+ * A point p of the file is at (p - c) / r in the model frame, with c the
+ * centre of the bounding box of the finite vertices and r the radius of the
+ * sphere about c through the farthest of them (mesh_bounding_sphere): the
+ * model scaled into the unit sphere. --frequency and --amplitude then count
+ * per model radius, whatever the file's units. */
+double mesh_bounding_sphere(const bg_mesh *bm, double c[3]);
+static inline float mesh_model_coord(float p, double c, double r)
+{
+    return (float)((p - c) / r);
+}
+
 #endif

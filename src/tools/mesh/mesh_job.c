@@ -583,12 +583,14 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
         if (!bumped && o->bake_path && o->bake.space == MESH_BAKE_TANGENT) {
             mesh_bake_stats scratch;
             memset(&scratch, 0, sizeof scratch);
-            if ((st = mesh_bake_corner_tangents(m, nx, ny, nz, &o->bake, &w->gltf_tan, &scratch,
-                                                e)) != BG_OK)
+            /* job->m: the positions the bake's frames came from */
+            if ((st = mesh_bake_corner_tangents(job->m, nx, ny, nz, &o->bake, &w->gltf_tan,
+                                                &scratch, e)) != BG_OK)
                 return st;
         } else {
             w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
-            bgt_mikk_mesh mm = {nv, nt, m->indices, m->px, m->py, m->pz, nx, ny, nz, m->u, m->v};
+            bgt_mikk_mesh mm = {nv, nt, m->indices, job->m->px, job->m->py, job->m->pz,
+                                nx, ny, nz, m->u, m->v};
             if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
                 return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
         }
@@ -627,12 +629,13 @@ static bg_status out_ply(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
     const bg_height *hh = &job->h->h;
     snprintf(comment, sizeof comment,
              "bumpgrad %s mesh method=%s function=%s octaves=%d lacunarity=%g gain=%g "
-             "amplitude=%g frequency=%g gradient=%s normals=%s",
+             "amplitude=%g frequency=%g gradient=%s normals=%s units=%s",
              bg_version_string(), method_name(job->method), function_name(hh->fractal.function),
              hh->fractal.octaves, (double)hh->fractal.lacunarity, (double)hh->fractal.gain,
              (double)hh->amplitude, (double)hh->frequency,
              hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic",
-             file_normals ? "file" : "angle-weighted");
+             file_normals ? "file" : "angle-weighted",
+             o->units == MESH_UNITS_FILE ? "file" : "model-radius");
     mesh_ply_out d = {.vertex_count = m->vertex_count, .triangle_count = m->triangle_count,
                       .px = m->px, .py = m->py, .pz = m->pz,
                       .nx = job->nx, .ny = job->ny, .nz = job->nz,
@@ -719,7 +722,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     }
     size_t nv = m.vertex_count, nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
     int file_normals = m.nx != NULL;
-    float *ox = NULL, *oy = NULL, *oz = NULL, *outs = NULL;
+    float *ox = NULL, *oy = NULL, *oz = NULL, *outs = NULL, *fpos = NULL;
     chunk_stats *stats = NULL;
     map_out mo;
     memset(&mo, 0, sizeof mo);
@@ -740,6 +743,38 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     r->no_normal = no_normal;
     count_defects(&m, r);
 
+    /* The height's frame: the model scaled into the unit sphere (the
+     * default), or the file's units. */
+    bg_mesh frame = m;
+    r->unit = 1.0;
+    r->model_radius = mesh_bounding_sphere(&m, r->model_centre);
+    if (o->units == MESH_UNITS_MODEL) {
+        if (!(r->model_radius > 0.0 && isfinite(r->model_radius))) {
+            st = bgt_fail(e, BG_ERR_FORMAT,
+                          "'%s': no finite extent, so no model size for --units model (use "
+                          "--units file)",
+                          o->input);
+            goto done;
+        }
+        if (!(fpos = malloc((nv ? nv : 1) * 3 * sizeof *fpos))) {
+            st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu vertices", nv);
+            goto done;
+        }
+        for (size_t i = 0; i < nv; i++) {
+            fpos[i] = mesh_model_coord(m.px[i], r->model_centre[0], r->model_radius);
+            fpos[nv + i] = mesh_model_coord(m.py[i], r->model_centre[1], r->model_radius);
+            fpos[2 * nv + i] = mesh_model_coord(m.pz[i], r->model_centre[2], r->model_radius);
+        }
+        frame.px = fpos, frame.py = fpos + nv, frame.pz = fpos + 2 * nv;
+        r->unit = r->model_radius;
+    }
+    if (!h.grid) {
+        const bg_fractal *fr = &h.h.fractal;
+        int oct = fr->function == BG_FUNC_NOISE ? 1 : fr->octaves;
+        r->coarsest_feature = r->unit / fabs((double)h.h.frequency);
+        r->finest_feature = r->coarsest_feature / pow(fabs((double)fr->lacunarity), oct - 1);
+    }
+
     /* nx ny nz height [compare]: the only per-vertex arrays besides the mesh. */
     outs = malloc(nv * (size_t)(o->compare ? 5 : 4) * sizeof *outs);
     stats = calloc(nchunks ? nchunks : 1, sizeof *stats);
@@ -747,7 +782,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu vertices", nv);
         goto done;
     }
-    vertex_job job = {.m = &m, .h = &h, .method = method,
+    vertex_job job = {.m = &frame, .h = &h, .method = method,
                       .other = method == BG_PERTURB_SURFGRAD ? BG_PERTURB_ADDITIVE
                                                              : BG_PERTURB_SURFGRAD,
                       .ox = ox, .oy = oy, .oz = oz,
@@ -760,7 +795,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         goto done;
 
     double t_bake0 = now_seconds();
-    if (o->bake_path && (st = bake_map(o, &m, &job, threads, &mo, r, e)) != BG_OK)
+    if (o->bake_path && (st = bake_map(o, &frame, &job, threads, &mo, r, e)) != BG_OK)
         goto done;
     double t_bake1 = now_seconds();
 
@@ -786,6 +821,7 @@ done:
     out_free(&w);
     map_free(&mo);
     free(outs);
+    free(fpos);
     free(stats);
     if (!file_normals) {
         free(ox);

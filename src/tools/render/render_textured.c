@@ -330,31 +330,6 @@ static bg_status read_mesh(const render_opts *o, bg_mesh *bm, bgt_err *e)
     return BG_OK;
 }
 
-/* The sphere around the finite vertices: its centre c (of their bounding
- * box) and radius, 0 or NaN when there is no finite extent. */
-static double bounding_sphere(const bg_mesh *bm, double c[3])
-{
-    const size_t nv = bm->vertex_count;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < nv; i++) {
-        double p[3] = {bm->px[i], bm->py[i], bm->pz[i]};
-        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
-            continue;
-        for (int a = 0; a < 3; a++)
-            lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
-    }
-    double rad = 0;
-    for (int a = 0; a < 3; a++)
-        c[a] = 0.5 * (lo[a] + hi[a]);
-    for (size_t i = 0; i < nv; i++) {
-        double d[3] = {bm->px[i] - c[0], bm->py[i] - c[1], bm->pz[i] - c[2]};
-        double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (isfinite(r) && r > rad)
-            rad = r;
-    }
-    return rad;
-}
-
 /* Vertex attributes: vp the positions normalized into the unit sphere, vn
  * the unit vertex normals of the mesh tool (mesh_frames.c: the file's,
  * renormalized, else angle-weighted), so that a normal map baked by
@@ -378,9 +353,9 @@ static bg_status vertex_arrays(const bg_mesh *bm, const double c[3], double rad,
         goto oom;
     }
     for (size_t i = 0; i < nv; i++) {
-        p[i * 3] = (float)((bm->px[i] - c[0]) / rad);
-        p[i * 3 + 1] = (float)((bm->py[i] - c[1]) / rad);
-        p[i * 3 + 2] = (float)((bm->pz[i] - c[2]) / rad);
+        p[i * 3] = mesh_model_coord(bm->px[i], c[0], rad);
+        p[i * 3 + 1] = mesh_model_coord(bm->py[i], c[1], rad);
+        p[i * 3 + 2] = mesh_model_coord(bm->pz[i], c[2], rad);
         n[i * 3] = snx[i], n[i * 3 + 1] = sny[i], n[i * 3 + 2] = snz[i];
         /* (0,0,0): the face normal is used there (render_core trace) */
     }
@@ -502,7 +477,7 @@ static bg_status mesh_geometry(const render_opts *o, bg_mesh *bm, int want_nmap,
                                flat_tris *ft, bgt_err *e)
 {
     double c[3];
-    const double rad = bounding_sphere(bm, c);
+    const double rad = mesh_bounding_sphere(bm, c);
     if (!(rad > 0))
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
                         o->mesh_path);
