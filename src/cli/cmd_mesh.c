@@ -44,6 +44,29 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
         cli_json_int(&j, "uv_islands", (long long)r->bake.islands);
         cli_json_int(&j, "overlap_texels", (long long)r->bake.overlap_texels);
         cli_json_ints(&j, "tiles", r->bake.tile_udim, (int)r->bake.tiles);
+        cli_json_str(&j, "filter", o->bake.filter == MESH_FILTER_NONE ? "none" : "footprint");
+        cli_json_int(&j, "samples", o->bake.samples > 0 ? o->bake.samples : MESH_DEFAULT_SAMPLES);
+        cli_json_int(&j, "padding", o->bake.padding);
+        cli_json_num(&j, "texel_size", r->bake.texel_size * r->unit);
+        cli_json_int(&j, "triangles_outside_unit_square", (long long)r->bake.outside_triangles);
+        cli_json_ints(&j, "other_tiles", r->bake.outside_tiles,
+                      (int)(r->bake.outside_tile_count < 8 ? r->bake.outside_tile_count : 8));
+        cli_json_close(&j);
+    }
+    cli_json_object(&j, "scale");
+    cli_json_str(&j, "units", o->units == MESH_UNITS_FILE ? "file" : "model");
+    cli_json_num(&j, "model_radius", r->model_radius);
+    cli_json_num(&j, "coarsest_feature", r->coarsest_feature);
+    cli_json_num(&j, "finest_feature", r->finest_feature);
+    cli_json_close(&j);
+    if (r->output_format && (r->gltf_materials || r->gltf_bumped_normals || r->gltf_map)) {
+        cli_json_object(&j, "gltf");
+        cli_json_bool(&j, "bumped_normals", r->gltf_bumped_normals);
+        cli_json_int(&j, "materials", (long long)r->gltf_materials);
+        cli_json_int(&j, "base_color_textures", (long long)r->gltf_textures);
+        cli_json_int(&j, "base_color_textures_left_out", (long long)r->gltf_textures_dropped);
+        cli_json_bool(&j, "normal_texture", r->gltf_map != 0);
+        cli_json_str(&j, "note", r->gltf_map_note);
         cli_json_close(&j);
     }
     cli_json_object(&j, "timing_s");
