@@ -267,8 +267,10 @@ CLI_SPEC(mesh,
             "\n"
             "Outputs are written to temporary files and renamed into place only when\n"
             "everything succeeded. Exit status: 0 success, 1 I/O failure or out of\n"
-            "memory, 2 bad input (missing, corrupt or empty mesh; bake without UVs) or\n"
-            "usage.\n"
+            "memory, 2 bad input (missing, corrupt or empty mesh; bake without UVs;\n"
+            "nothing to bake) or usage. Warnings (stderr, also with --quiet): UVs\n"
+            "outside the unit square without <UDIM>, a bump finer than a texel or\n"
+            "coarser than the model.\n"
             "\n"
             "Examples:\n"
             "  bumpgrad mesh --compare model.obj bumped.ply\n"
@@ -375,10 +377,10 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                     bake_path, bake.width, bake.height,
                     bake.space == MESH_BAKE_TANGENT ? "tangent" : "object", r.bake.covered,
                     r.bake.padded, r.bake.skipped);
-        fprintf(fp, "scale: %s; model radius %.6g file units; height features from %.4g down to "
-                    "%.4g file units",
+        fprintf(fp, "scale: %s; model radius %.6g file units, mean edge %.4g; height features "
+                    "from %.4g down to %.4g file units",
                 r.unit == 1.0 && a.units == MESH_UNITS_FILE ? "--units file" : "--units model",
-                r.model_radius, r.coarsest_feature, r.finest_feature);
+                r.model_radius, r.mean_edge, r.coarsest_feature, r.finest_feature);
         if (bake_path)
             fprintf(fp, "; a texel spans %.4g file units on the surface (mean)",
                     r.bake.texel_size * r.unit);
