@@ -5,8 +5,13 @@
  * position and vertex normal are interpolated with them, the solid height's
  * gradient is evaluated at that position and the interpolated normal is
  * perturbed with Listing 3 (Mikkelsen 2010): n' = normalize(n - grad_S h).
- * No derivative of the UV map enters the perturbation; UVs only say where the
- * result is stored and, for tangent space, in which frame it is expressed.
+ * By default the height is band-limited to the texel's footprint on the
+ * surface (its triangle's UV Jacobian gives the object-space size of a texel;
+ * bg_perturb_height_footprint_batch fades out the octaves finer than that)
+ * and taken at N x N stratified points of the texel whose normals are
+ * averaged (docs/MESH.md, "Anti-aliasing"). No derivative of the UV map
+ * enters the perturbation itself; UVs say where the result is stored, how
+ * large a texel is and, for tangent space, in which frame it is expressed.
  *
  * Tangent space follows the mikkTSpace decoding convention: a renderer
  * interpolates the per-corner tangent t (bgt_mikk_tangents, or the file's),
