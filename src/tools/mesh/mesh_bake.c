@@ -629,7 +629,13 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     if (o->samples < 0 || o->samples > MESH_MAX_SAMPLES)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "samples %d: expected 1..%d per axis",
                         o->samples, MESH_MAX_SAMPLES);
-    bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H), "the bake buffers", e);
+    /* the tile's buffers, and each worker's samples of one chunk of rows
+     * (at least one row: W x N^2 samples of 10 floats) */
+    const double ns = (double)(o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES);
+    const double chunk = fmax(16384.0, (double)W * ns * ns);
+    bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H) +
+                                       (double)(o->threads > 0 ? o->threads : 1) * chunk * 40.0,
+                                   "the bake buffers", e);
     if (rc != BG_OK)
         return rc;
     int tiles[MESH_UDIM_MAX_TILES];
