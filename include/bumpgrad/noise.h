@@ -306,7 +306,7 @@ BG_API bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, f
  * coordinates). Exactness of the repeat: f(p + P e_a) == f(p) bit for bit
  * wherever p + P e_a is exact in float (e.g. coordinates on a 2^-10 grid below
  * 2^13); elsewhere the float rounding of p + P e_a itself moves the point. The
- * cell index floor(q) mod P is exact for |q| < 2^23 (float) and 2^52 (double);
+ * cell index floor(q) mod P is exact for |q| < 2^22 (float) and 2^51 (double);
  * beyond, where float has no fraction left, it is a fixed function of q (the
  * same on every ISA) that need not be periodic, and 0 for NaN/Inf.
  *

@@ -291,25 +291,34 @@ BG_INLINE vcell cell_refrac(vcell c, vf x, vf y, vf z)
 
 /* ---- Domains: tileable lattices and seeded octaves (noise.h bg_domain) ----
  * The cell floor(x) reduced modulo the period P (an integer-valued bg_real,
- * 1 <= P <= 2^24, 1/P given rounded): q = floor(fl / P) may be off by one
- * from the rounding of fl * (1/P), which the two corrections fix, so r =
- * fl mod P exactly while fl - q P is exact (|fl| < 2^23 in float). Beyond,
- * or for NaN/Inf (the fraction is NaN then), a cell outside [0, P) becomes 0.
- * *c1 is the next corner's cell, r + 1, or 0 at the seam. Both are used
- * modulo 256 by the hash, as the plain lattice is: with P = 256 the cells are
- * vi_cell256's and the hashes the plain noise's. */
+ * 1 <= P <= 2^24, 1/P given rounded): r = fl - P floor((fl + 1/2) / P). The
+ * quotient (fl + 1/2) / P is never an integer and lies at least 1/(2P) from
+ * one, more than the rounding of (fl + 1/2) * (1/P) moves it while |fl| <
+ * 2^22 (float; 2^51 in double), so its floor is exact and so is r, with no
+ * correction step. Beyond (the fraction is mostly gone there), r is a fixed
+ * function of fl, the same on every ISA, that need not lie in [0, P):
+ * vi_cell256 takes it modulo 256 (0 for NaN/Inf), so no index leaves the
+ * table. *c1 is the next corner's cell, r + 1, or 0 at the seam. Both are
+ * used modulo 256 by the hash, as the plain lattice is: with P = 256 the
+ * cells are vi_cell256's and the hashes the plain noise's. */
 BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
 {
     vf vp = vf_set1(P), zero = vf_set1(0);
     vf fl = vf_floor(x);
-    vf r = vf_sub(fl, vf_mul(vf_floor(vf_mul(fl, vf_set1(invP))), vp));
-    r = vf_sel(vf_lt(r, zero), vf_add(r, vp), r);
-    r = vf_sel(vf_le(vp, r), vf_sub(r, vp), r);
-    r = vf_sel(vm_and(vf_le(zero, r), vf_lt(r, vp)), r, zero);
+    vf q = vf_floor(vf_mul(vf_add(fl, vf_set1((bg_real)0.5)), vf_set1(invP)));
+    vf r = vf_sub(fl, vf_mul(q, vp));
     vf r1 = vf_add(r, vf_set1(1));
     r1 = vf_sel(vf_le(vp, r1), zero, r1);
+#ifdef BG_SCALAR_DOUBLE
+    /* No vi_cell256 in double: out-of-range cells (and NaN) become 0. */
+    r = vf_sel(vm_and(vf_le(zero, r), vf_lt(r, vp)), r, zero);
+    r1 = vf_sel(vm_and(vf_le(zero, r1), vf_lt(r1, vp)), r1, zero);
     *c0 = vi_and(vi_from_vf(r), vi_set1(255));
     *c1 = vi_and(vi_from_vf(r1), vi_set1(255));
+#else
+    *c0 = vi_cell256(r);
+    *c1 = vi_cell256(r1);
+#endif
     return vf_sub(x, fl);
 }
 
@@ -318,9 +327,11 @@ BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
  * call in bg_real by the same operations on every ISA. */
 typedef struct octlat {
     bg_real off[BG_MAX_OCTAVES][3], per[BG_MAX_OCTAVES][3], inv[BG_MAX_OCTAVES][3];
+    int tiled; /* some period is set; else (a seed alone) the plain cells */
 } octlat;
 static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *d)
 {
+    L->tiled = d->period[0] || d->period[1] || d->period[2];
     int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
     bg_real freq = 1;
     const bg_real lac = (bg_real)f->lacunarity;
@@ -346,6 +357,8 @@ BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real fr
     qx = vf_add(qx, vf_set1(L->off[i][0]));
     qy = vf_add(qy, vf_set1(L->off[i][1]));
     qz = vf_add(qz, vf_set1(L->off[i][2]));
+    if (!L->tiled) /* periods 256: the plain cells, the same bits at less cost */
+        return noise_cell(qx, qy, qz);
     vi X, Y, Z, X1, Y1, Z1;
     vcell c;
     c.fx = lattice_per(qx, L->per[i][0], L->inv[i][0], &X, &X1);
