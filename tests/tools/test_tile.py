@@ -117,6 +117,26 @@ for args, needle in ((["heightmap", "-", "--generate", "64", "--format", "ppm"],
     check(r.returncode == 2 and needle in err, f"{' '.join(args)}: exit 2 naming {needle} "
           f"(got {r.returncode}: {err.strip()[:120]})")
 
+# --seed: 0 is the plain output byte for byte; another seed changes every row;
+# perturb (the shared height options) follows the seed as eval does.
+pts = "x,y,z\n" + "".join(f"{0.37 * i - 5},{0.11 * i},{1.3 - 0.07 * i}\n" for i in range(64))
+outs = {}
+for seed in (None, "0", "5", "6"):
+    args = ["eval", "-i", "-", "-o", "-", "--function", "turbulence"]
+    if seed is not None:
+        args += ["--seed", seed]
+    outs[seed] = run(args, input=pts.encode()).stdout
+check(outs[None] == outs["0"] and len(outs[None]) > 100, "eval --seed 0 == no seed, byte for byte")
+rows = lambda b: b.decode().splitlines()[1:]
+check(all(a != b for a, b in zip(rows(outs[None]), rows(outs["5"]))), "--seed 5 changes every row")
+check(sum(a != b for a, b in zip(rows(outs["5"]), rows(outs["6"]))) == 64, "seeds 5 and 6 differ")
+pp = "x,y,z,nx,ny,nz\n" + "".join(f"{0.37 * i - 5},{0.11 * i},{1.3 - 0.07 * i},0,0,1\n"
+                                   for i in range(64))
+p0 = run(["perturb", "-i", "-", "-o", "-"], input=pp.encode()).stdout
+p5 = run(["perturb", "-i", "-", "-o", "-", "--seed", "5"], input=pp.encode()).stdout
+p00 = run(["perturb", "-i", "-", "-o", "-", "--seed", "0"], input=pp.encode()).stdout
+check(p0 == p00 and p0 != p5 and len(p5) > 100, "perturb --seed: 0 is the default, 5 differs")
+
 # volume takes the shared height options, --period and --seed among them.
 r = run(["volume", "--help"])
 check(b"--period" in r.stdout and b"--seed" in r.stdout, "volume --help lists --period, --seed")
