@@ -327,11 +327,13 @@ BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
  * call in bg_real by the same operations on every ISA. */
 typedef struct octlat {
     bg_real off[BG_MAX_OCTAVES][3], per[BG_MAX_OCTAVES][3], inv[BG_MAX_OCTAVES][3];
-    int tiled; /* some period is set; else (a seed alone) the plain cells */
+    int tiled;  /* some period is set; else (a seed alone) the plain cells */
+    int seeded; /* offsets to add (seed != 0); adding +0 would give the same bits */
 } octlat;
 static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *d)
 {
     L->tiled = d->period[0] || d->period[1] || d->period[2];
+    L->seeded = d->seed != 0;
     int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
     bg_real freq = 1;
     const bg_real lac = (bg_real)f->lacunarity;
@@ -354,9 +356,11 @@ BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real fr
     vf qx = vf_mul(x, fq), qy = vf_mul(y, fq), qz = vf_mul(z, fq);
     if (!L)
         return noise_cell(qx, qy, qz);
-    qx = vf_add(qx, vf_set1(L->off[i][0]));
-    qy = vf_add(qy, vf_set1(L->off[i][1]));
-    qz = vf_add(qz, vf_set1(L->off[i][2]));
+    if (L->seeded) {
+        qx = vf_add(qx, vf_set1(L->off[i][0]));
+        qy = vf_add(qy, vf_set1(L->off[i][1]));
+        qz = vf_add(qz, vf_set1(L->off[i][2]));
+    }
     if (!L->tiled) /* periods 256: the plain cells, the same bits at less cost */
         return noise_cell(qx, qy, qz);
     vi X, Y, Z, X1, Y1, Z1;

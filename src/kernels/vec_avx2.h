@@ -233,9 +233,14 @@ BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
     __m256i ab = _mm256_add_epi8(_mm256_shuffle_epi8(pair, _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13))), yb);
     __m256i i2 = _mm256_add_epi8(_mm256_shuffle_epi8(ab, b01), dyb);
     __m256i hz = _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
-    __m256i lo = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, hz), lo4);
-    __m256i hi = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(hz, dzb)), lo4);
-    return _mm256_or_si256(lo, _mm256_slli_epi16(hi, 4));
+    /* Off the z seam the pair table gives both corners (vec_avx512.h). */
+    __m256i h = bg_perm_bytes_of(bg_perm_code2, hz);
+    __m256i zn = _mm256_and_si256(_mm256_add_epi32(Z, _mm256_set1_epi32(1)), m8);
+    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(Z1, zn)) != -1) {
+        __m256i hi = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(hz, dzb)), lo4);
+        h = _mm256_or_si256(_mm256_and_si256(h, lo4), _mm256_slli_epi16(hi, 4));
+    }
+    return h;
 }
 #endif
 

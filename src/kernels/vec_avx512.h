@@ -131,9 +131,17 @@ static inline vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
     __m512i ab = _mm512_add_epi8(bg_perm_bytes(xb), yb);
     __m512i i2 = _mm512_add_epi8(_mm512_shuffle_epi8(ab, b01), dyb);
     __m512i hz = _mm512_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
-    __m512i lo = _mm512_and_si512(bg_perm_bytes(hz), lo4);
-    __m512i hi = _mm512_slli_epi16(_mm512_and_si512(bg_perm_bytes(_mm512_add_epi8(hz, dzb)), lo4), 4);
-    return _mm512_or_si512(lo, hi);
+    /* Off the z seam (Z1 = Z + 1 modulo 256, every lane of an untiled z) the
+     * pair table gives both corners, as in vi_hashp; only a vector with a lane
+     * on the seam looks the z + 1 corners up on their own (the same hashes in
+     * the other lanes). */
+    __m512i h = bg_perm_bytes_of(bg_perm_nib2, hz);
+    __m512i zn = _mm512_and_si512(_mm512_add_epi32(Z, _mm512_set1_epi32(1)), _mm512_set1_epi32(255));
+    if (_mm512_cmpneq_epi32_mask(Z1, zn)) {
+        __m512i hi = _mm512_slli_epi16(_mm512_and_si512(bg_perm_bytes(_mm512_add_epi8(hz, dzb)), lo4), 4);
+        h = _mm512_or_si512(_mm512_and_si512(h, lo4), hi);
+    }
+    return h;
 }
 #else
 #endif

@@ -48,6 +48,7 @@ enum {
     K_PFBM3,
     K_PFBM3_GRAD,
     K_SFBM3_GRAD,
+    K_PFBM3_GRAD_XY, /* periods (16, 16, 0): a tileable texture's x and y */
     K_COUNT
 };
 
