@@ -296,6 +296,106 @@ BG_API bg_status bg_fractal3_grid(const bg_fractal *f, const bg_grid3 *g, float 
 BG_API bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, float *value,
                                        float *gx, float *gy, float *gz);
 
+
+/* ---- tileable noise and seeded octaves (bg_domain) --------------------------
+ * A domain changes where each octave samples Perlin's lattice; every octave is
+ * still Perlin's improved noise (the same fade, corners and lerps), so the
+ * gradient stays analytic and exact and every ISA gives the same bits.
+ *
+ * Periods (tileable noise, like OSL's pnoise or glm's perlin(p, rep)): with
+ * period[a] = P > 0 the lattice wraps before hashing: the corner at integer
+ * coordinate i along axis a is hashed as (i mod P), so the noise repeats with
+ * period P along that axis and the corners on both sides of the seam are the
+ * same corners (value and gradient continuous across the wrap). Octave i of a
+ * fractal has period P * lacunarity^i in its own coordinates, i.e. the same
+ * period P in the caller's; the lacunarity must then be an integer. A period of
+ * 256 gives Perlin's noise itself (his lattice repeats every 256); period 0
+ * leaves that axis untiled (the plain noise's 256 in each octave's own
+ * coordinates). Exactness of the repeat: f(p + P e_a) == f(p) bit for bit
+ * wherever p + P e_a is exact in float (e.g. coordinates on a 2^-10 grid below
+ * 2^13); elsewhere the float rounding of p + P e_a itself moves the point. The
+ * cell index floor(q) mod P is exact for |q| < 2^22 (float) and 2^51 (double);
+ * beyond, where float has no fraction left, it is a fixed function of q (the
+ * same on every ISA) that need not be periodic, and 0 for NaN/Inf.
+ *
+ * Seed: 0 leaves Perlin's lattice (the same bits as the plain calls). Another
+ * seed offsets octave i by o_i(seed), a vector of multiples of 1/256 in
+ * [0, 32) per axis: octave i samples noise at lacunarity^i p + o_i. Different
+ * seeds give different patterns; the octaves no longer share lattice planes
+ * (lacunarity 2 otherwise puts every coarse lattice plane on a finer one).
+ * Offsets are multiples of 1/256, so tiling is kept bit for bit.
+ *
+ * Cost (docs/PERFORMANCE.md, "Tileable and seeded noise"): a domain adds the
+ * cell reduction modulo P per axis and, on most ISAs, a second lookup for the
+ * wrapped corners. */
+
+/** Largest per-axis period. */
+#define BG_MAX_PERIOD 256
+
+/** Where a fractal's octaves sample the lattice. All zero (the default):
+ *  Perlin's lattice, the plain calls' bits. */
+typedef struct bg_domain {
+    int period[3];     /**< per-axis period, 1..BG_MAX_PERIOD, or 0: not tiled */
+    unsigned int seed; /**< 0: no offsets; else per-octave offsets o_i(seed) */
+} bg_domain;
+
+/** Check a domain for fractal `f` (which must pass bg_fractal_validate).
+ *  @return BG_OK; BG_ERR_NULL_POINTER for NULL `f` or `d`; the status of
+ *   bg_fractal_validate(f); BG_ERR_INVALID_ARGUMENT if a period is outside
+ *   0..BG_MAX_PERIOD, or a period is set and the fractal's lacunarity is not
+ *   an integer, or the finest octave's period P * lacunarity^(octaves-1)
+ *   exceeds 2^24 (its cells could not be reduced exactly in float). */
+BG_API bg_status bg_domain_validate(const bg_fractal *f, const bg_domain *d);
+
+/** The seed offset o_i along axis `axis` (0..2) of octave `octave`: a multiple
+ *  of 1/256 in [0, 32); 0 for seed 0. */
+BG_API float bg_domain_offset(unsigned int seed, int octave, int axis);
+
+/** Periodic noise at (x,y,z) with periods period[0..2] (each 1..BG_MAX_PERIOD,
+ *  or 0 for an untiled axis). A NULL or out-of-range `period` gives NaN. */
+BG_API float bg_pnoise3(float x, float y, float z, const int period[3]);
+/** Periodic noise and its analytic gradient; `grad` must not be NULL. */
+BG_API float bg_pnoise3_grad(float x, float y, float z, const int period[3], bg_vec3 *grad);
+/** Periodic noise in double. */
+BG_API double bg_pnoise3d(double x, double y, double z, const int period[3]);
+BG_API double bg_pnoise3d_grad(double x, double y, double z, const int period[3], bg_dvec3 *grad);
+
+/** Fractal (noise, fBm, turbulence) over a domain, value and analytic gradient,
+ *  float and double. An invalid `f` or `d` (bg_domain_validate, any check but
+ *  the overflow one) gives NaN value and gradient. */
+BG_API float bg_fractal3_domain(const bg_fractal *f, const bg_domain *d, float x, float y, float z);
+BG_API float bg_fractal3_domain_grad(const bg_fractal *f, const bg_domain *d, float x, float y,
+                                     float z, bg_vec3 *grad);
+BG_API double bg_fractal3d_domain(const bg_fractal *f, const bg_domain *d, double x, double y,
+                                  double z);
+BG_API double bg_fractal3d_domain_grad(const bg_fractal *f, const bg_domain *d, double x, double y,
+                                       double z, bg_dvec3 *grad);
+
+/** Batches (the batch contract above; the descriptor check is
+ *  bg_domain_validate). Periodic noise: `period` as for bg_pnoise3. */
+BG_API bg_status bg_pnoise3_batch(const int period[3], const float *x, const float *y,
+                                  const float *z, size_t n, float *value);
+BG_API bg_status bg_pnoise3_grad_batch(const int period[3], const float *x, const float *y,
+                                       const float *z, size_t n, float *value, float *gx,
+                                       float *gy, float *gz);
+BG_API bg_status bg_fractal3_domain_batch(const bg_fractal *f, const bg_domain *d, const float *x,
+                                          const float *y, const float *z, size_t n, float *value);
+/** `value` may be NULL. */
+BG_API bg_status bg_fractal3_domain_grad_batch(const bg_fractal *f, const bg_domain *d,
+                                               const float *x, const float *y, const float *z,
+                                               size_t n, float *value, float *gx, float *gy,
+                                               float *gz);
+/** Central differences over a domain (as bg_fractal3_grad_central_batch). */
+BG_API bg_status bg_fractal3_domain_grad_central_batch(const bg_fractal *f, const bg_domain *d,
+                                                       float h, const float *x, const float *y,
+                                                       const float *z, size_t n, float *value,
+                                                       float *gx, float *gy, float *gz);
+/** Double batch; `value` may be NULL. */
+BG_API bg_status bg_fractal3d_domain_grad_batch(const bg_fractal *f, const bg_domain *d,
+                                                const double *x, const double *y, const double *z,
+                                                size_t n, double *value, double *gx, double *gy,
+                                                double *gz);
+
 #ifdef __cplusplus
 }
 #endif

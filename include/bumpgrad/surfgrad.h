@@ -96,6 +96,7 @@ typedef struct bg_height {
     float frequency;
     bg_gradient_mode gradient;
     float step; /**< central-difference step in noise space; 0 means BG_DEFAULT_CENTRAL_STEP */
+    bg_domain domain; /**< periods (tileable, in noise space) and seed (noise.h); zero: none */
 } bg_height;
 
 /** Defaults: 6-octave turbulence, amplitude 0.1, frequency 1, analytic gradient. */

@@ -157,6 +157,13 @@ extern const cli_opt cli_fractal_opts[];
 /* The fractal options plus --amplitude --frequency --gradient --step
  * --height-grid, offsets relative to a bgt_height. */
 extern const cli_opt cli_height_opts[];
+/* --period and --seed into a bg_domain (noise.h), part of cli_height_opts;
+ * eval includes it next to cli_fractal_opts. cli_domain_check: 0, or a usage
+ * error that says what is wrong with the domain for fractal f. */
+extern const cli_opt cli_domain_opts[];
+struct bg_fractal;
+struct bg_domain;
+int cli_domain_check(const char *cmd, const struct bg_fractal *f, const struct bg_domain *d);
 extern const char cli_height_heading[];
 /* --input/-i and --output/-o of the table commands (eval, perturb), both
  * required, relative to a cli_table_io. */

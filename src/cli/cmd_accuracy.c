@@ -101,6 +101,10 @@ static int run_accuracy(void *args, const char *const *pos, int npos)
     accuracy_args a = *(accuracy_args *)args;
     if (a.height.grid_path)
         return cli_usage_error(CMD, "--height-grid is not supported here: the study needs an analytic reference");
+    if (a.height.h.domain.seed || a.height.h.domain.period[0] || a.height.h.domain.period[1] ||
+        a.height.h.domain.period[2])
+        return cli_usage_error(CMD, "--period and --seed are not supported here: the study "
+                                    "measures Perlin's lattice against its double reference");
 
     bgt_accuracy_result res;
     acc_print pr = {&res, 0};

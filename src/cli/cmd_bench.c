@@ -89,6 +89,9 @@ static const cli_opt bench_opts[] = {
              "fbm3_grid, fbm3_grad_grid (grid calls on a 128 x 128 x k lattice of the same "
              "sample count, step 1/8, at the active ISA or --isa), stream3 (v = x + y + z over "
              "the same arrays: the memory traffic of the noise3 row with no work, its floor), "
+             "pnoise3, pnoise3_grad, pfbm3, pfbm3_grad (tileable noise and 6-octave fBm, "
+             "periods 16,16,16), fbm3_seed_grad (fBm with seed 1), pfbm3_grad_xy (periods "
+             "16,16,0), "
              "ours, peers, peer:<library>, "
              "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm)"},
     {.name = "icount", .kind = CLI_KIND_STRING, .offset = A(icount), .metavar = "FILE",

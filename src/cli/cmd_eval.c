@@ -14,6 +14,7 @@
 typedef struct eval_args {
     cli_table_io io;
     bg_fractal fractal;
+    bg_domain domain;
     int central, dbl, threads, allow_nonfinite, json;
     double step;
 } eval_args;
@@ -34,6 +35,7 @@ static const char *const precision_choices[] = {"float", "double", NULL};
 static const cli_opt eval_opts[] = {
     CLI_OPT_INCLUDE(A(io), cli_table_io_opts, NULL),
     CLI_OPT_INCLUDE(A(fractal), cli_fractal_opts, NULL),
+    CLI_OPT_INCLUDE(A(domain), cli_domain_opts, NULL),
     {.name = "gradient", .kind = CLI_KIND_CHOICE, .offset = A(central), .metavar = "MODE",
      .help = "analytic gradient or central differences", .choices = gradient_choices},
     {.name = "step", .kind = CLI_KIND_DOUBLE, .offset = A(step), .metavar = "H",
@@ -81,7 +83,8 @@ CLI_SPEC(eval,
             "Examples:\n"
             "  printf 'x,y,z\\n3.14,42,7\\n' | bumpgrad eval --precision double -i - -o -\n"
             "  bumpgrad eval --function turbulence --octaves 8 -i pts.csv -o out.csv\n"
-            "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n",
+            "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n"
+            "  bumpgrad eval --function fbm --period 8,8,0 --seed 3 -i pts.csv -o tiled.csv\n",
 );
 
 /* With -v: the rows, the time, the ISA and the threads (stderr). */
@@ -102,6 +105,7 @@ static void print_json(const eval_args *a, const bgt_points_stats *stats, double
     cli_json_str(&j, "input", a->io.input);
     cli_json_str(&j, "output", a->io.output);
     cli_json_fractal(&j, &a->fractal);
+    cli_json_domain(&j, &a->domain);
     cli_json_str(&j, "gradient", a->central ? "central" : "analytic");
     cli_json_num(&j, "step", a->step);
     cli_json_str(&j, "precision", a->dbl ? "double" : "float");
@@ -118,6 +122,12 @@ static int run_eval(void *args, const char *const *pos, int npos)
     eval_args a = *(eval_args *)args;
     if (bg_fractal_validate(&a.fractal) != BG_OK)
         return cli_usage_error(cmd, "invalid fractal parameters");
+    if (cli_domain_check(cmd, &a.fractal, &a.domain))
+        return CLI_USAGE;
+    if (a.dbl && a.central && (a.domain.seed || a.domain.period[0] || a.domain.period[1] ||
+                               a.domain.period[2]))
+        return cli_usage_error(cmd, "--period/--seed with --precision double: only the analytic "
+                                    "gradient (no double central differences over a domain)");
     if (!a.dbl && !((float)a.step > 0))
         return cli_usage_error(cmd, "--step %g is zero in float precision", a.step);
     if (a.json && strcmp(a.io.output, "-") == 0)
@@ -129,7 +139,7 @@ static int run_eval(void *args, const char *const *pos, int npos)
     cli_points_progress_init(&pp);
     bgt_points_stats *const stats = &pp.stats;
     bgt_eval_opts opts = {.input = a.io.input, .output = a.io.output, .fractal = a.fractal,
-                          .central = a.central, .dbl = a.dbl, .step = a.step,
+                          .domain = a.domain, .central = a.central, .dbl = a.dbl, .step = a.step,
                           .threads = a.threads, .allow_nonfinite = a.allow_nonfinite,
                           .progress = &pp.sink, .stats = stats};
     bgt_err err;

@@ -6,6 +6,8 @@
  * file parses the options and runs the conversion (bgt_heightmap_run,
  * src/tools/bake/heightmap.c). */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "args.h"
 #include "bake/heightmap.h"
@@ -18,6 +20,8 @@ typedef struct heightmap_args {
     int gray, wrap, y_down, to_derivative, bits, json;
     float strength;
     const char *format, *input_format;
+    int gen[2], map, threads; /* --generate WxH (0: off), --map, --threads */
+    bgt_height height;        /* the height function of --generate */
 } heightmap_args;
 
 _Static_assert(sizeof(bgt_gray) == sizeof(int), "bgt_gray is stored as int");
@@ -28,6 +32,25 @@ static void heightmap_defaults(void *p)
     memset(a, 0, sizeof *a);
     a->gray = BGT_GRAY_SEED;
     a->strength = 1.0f;
+    a->map = BGT_MAP_NORMAL;
+    bgt_height_init(&a->height);
+}
+
+/* --generate WxH or N (square). */
+static int parse_size(const char *cmd, const char *opt, char *text, void *field)
+{
+    int *wh = field;
+    return cli_parse_size(cmd, opt, text, 1, 1, "pixels", &wh[0], &wh[1]);
+}
+
+static int format_size(const void *field, char *buf, size_t len)
+{
+    const int *wh = field;
+    if (!wh[0])
+        snprintf(buf, len, "off");
+    else
+        snprintf(buf, len, "%dx%d", wh[0], wh[1]);
+    return 1;
 }
 
 static const char *const gray_choices[] = {"diffuse", "rec709", NULL};
@@ -35,6 +58,8 @@ static const int gray_values[] = {BGT_GRAY_SEED, BGT_GRAY_REC709};
 static const char *const edge_choices[] = {"clamp", "wrap", NULL};
 static const char *const bits_choices[] = {"8", "16", "float", NULL};
 static const int bits_values[] = {8, 16, 32};
+static const char *const map_choices[] = {"height", "normal", "derivative", NULL};
+static const int map_values[] = {BGT_MAP_HEIGHT, BGT_MAP_NORMAL, BGT_MAP_DERIVATIVE};
 
 #define A(m) offsetof(heightmap_args, m)
 static const cli_opt heightmap_opts[] = {
@@ -76,13 +101,24 @@ static const cli_opt heightmap_opts[] = {
              "128] along their own direction."},
     {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
      .help = "print one JSON object on standard output: time, ISA and every parameter"},
+    {.name = "generate", .kind = CLI_KIND_CUSTOM, .offset = A(gen), .metavar = "WxH",
+     .help = "no IN: write OUT from the height function below, one period (--period X,Y) "
+             "across the image, so that it tiles without a seam",
+     .parse = parse_size, .format = format_size},
+    {.name = "map", .kind = CLI_KIND_CHOICE, .offset = A(map), .metavar = "KIND",
+     .help = "with --generate: normal (tangent space, 0.5 n + 0.5), height (0.5 + h; float: "
+             "h) or derivative ((dh/dx, dh/dy, 0), float)",
+     .choices = map_choices, .choice_values = map_values},
+    CLI_OPT_INCLUDE(A(threads), cli_threads_opts, NULL),
+    CLI_OPT_INCLUDE(A(height), cli_height_opts, "Height function of --generate, h(p) = A * F(f * p):"),
     CLI_OPT_END,
 };
 #undef A
 
 CLI_SPEC(heightmap,
     .summary = "image -> tangent-space normal map (central differences); normal map -> derivative map",
-    .usage = "IN OUT [options]\nIN OUT --to-derivative [--bits float]",
+    .usage = "IN OUT [options]\nIN OUT --to-derivative [--bits float]\n"
+             "OUT --generate WxH --period X,Y [--map normal|height|derivative] [height options]",
     .about = "Turn any image OpenImageIO reads into a tangent-space normal map, treating\n"
              "its gray level as a height H (the method of the article \"Bump Map Generation\"):\n"
              "  a = H[x+1,y] - H[x-1,y],  b = H[x,y-1] - H[x,y+1]   (y-1 is the row above)\n"
@@ -109,6 +145,7 @@ CLI_SPEC(heightmap,
             "Examples:\n"
             "  bumpgrad heightmap diffuse.png normal.png --strength 2 --edge wrap\n"
             "  bumpgrad heightmap normal.png deriv.exr --to-derivative\n"
+            "  bumpgrad heightmap tile.png --generate 1024x1024 --period 8,8 --function fbm\n"
             "  bumpgrad heightmap - - --input-format tga --format exr --bits float \\\n"
             "      < height.tga > normal.exr\n",
     .max_positional = 2,
@@ -146,9 +183,52 @@ static void print_json(const heightmap_args *a, const char *in, const char *out,
     cli_json_end(&j);
 }
 
+static int run_generate(const heightmap_args *a, const char *out)
+{
+    if (strcmp(out, "-") == 0 && a->json)
+        return cli_usage_error(CMD, "--json writes to standard output: give OUT a file name");
+    if (cli_domain_check(CMD, &a->height.h.fractal, &a->height.h.domain))
+        return CLI_USAGE;
+    bgt_generate_opts opts = {.output = out, .height = &a->height, .width = a->gen[0],
+                              .height_px = a->gen[1], .map = (bgt_map_kind)a->map,
+                              .y_down = a->y_down, .bits = a->bits, .format = a->format,
+                              .threads = a->threads};
+    bgt_err err;
+    double t0 = cli_now();
+    bg_status st = bgt_generate_run(&opts, &err);
+    double dt = cli_now() - t0;
+    if (st != BG_OK)
+        return cli_report(CMD, st, &err);
+    cli_info(CMD, "%dx%d %s map, one period %d x %d (noise space) in %.3f s", a->gen[0], a->gen[1],
+             map_choices[a->map], a->height.h.domain.period[0], a->height.h.domain.period[1], dt);
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, CMD, dt);
+        cli_json_object(&j, "parameters");
+        cli_json_str(&j, "output", out);
+        cli_json_ints(&j, "generate", a->gen, 2);
+        cli_json_str(&j, "map", map_choices[a->map]);
+        cli_json_bool(&j, "y_down", a->y_down);
+        cli_json_height(&j, "height", &a->height);
+        cli_json_close(&j);
+        cli_json_end(&j);
+    }
+    return CLI_OK;
+}
+
 static int run_heightmap(void *args, const char *const *pos, int npos)
 {
     heightmap_args a = *(heightmap_args *)args;
+    if (a.gen[0]) {
+        if (npos != 1 || a.to_derivative)
+            return cli_usage_error(CMD, "--generate writes OUT alone: expected one OUT, no IN "
+                                        "and no --to-derivative");
+        return run_generate(&a, pos[0]);
+    }
+    if (a.height.h.domain.seed || a.height.h.domain.period[0] || a.height.h.domain.period[1] ||
+        a.height.h.domain.period[2])
+        return cli_usage_error(CMD, "--period and --seed apply with --generate");
     if (npos != 2)
         return cli_usage_error(CMD, "expected IN OUT (see bumpgrad heightmap --help)");
     if (a.json && strcmp(pos[1], "-") == 0)

@@ -6,6 +6,7 @@
  * other fragments several commands share (--input/--output of the table
  * commands, --threads) and the choice names the commands print. */
 #include <ctype.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
@@ -92,9 +93,62 @@ const cli_opt cli_fractal_opts[] = {
 };
 #undef FR
 
+/* --period X,Y,Z (X,Y: z not tiled; one N: all three axes): the tiling periods of
+ * noise.h's bg_domain, each 0 (untiled) or 1..BG_MAX_PERIOD. */
+static int parse_period(const char *cmd, const char *opt, char *text, void *field)
+{
+    int *period = field, n = 0;
+    const char *s = text;
+    char *end = text;
+    while (n < 3) {
+        long v = strtol(s, &end, 10);
+        if (end == s || v < 0 || v > BG_MAX_PERIOD)
+            return cli_usage_error(cmd, "%s: expected X,Y,Z or N, each 0 (not tiled) or 1..%d, "
+                                        "got \"%s\"", opt, BG_MAX_PERIOD, text);
+        period[n++] = (int)v;
+        if (*end == '\0')
+            break;
+        if (*end != ',')
+            return cli_usage_error(cmd, "%s: expected X,Y,Z or N, got \"%s\"", opt, text);
+        s = end + 1;
+    }
+    if (*end != '\0')
+        return cli_usage_error(cmd, "%s: expected X,Y,Z or N, got \"%s\"", opt, text);
+    if (n == 1)
+        period[1] = period[2] = period[0];
+    else if (n == 2)
+        period[2] = 0;
+    return 0;
+}
+
+static int format_period(const void *field, char *buf, size_t len)
+{
+    const int *p = field;
+    if (!p[0] && !p[1] && !p[2])
+        snprintf(buf, len, "0 = not tiled");
+    else
+        snprintf(buf, len, "%d,%d,%d", p[0], p[1], p[2]);
+    return 1;
+}
+
+#define DO(m) offsetof(bg_domain, m)
+const cli_opt cli_domain_opts[] = {
+    {.name = "period", .kind = CLI_KIND_CUSTOM, .offset = DO(period), .metavar = "X,Y,Z",
+     .help = "tile the noise: periods in noise-space units (f * p), each 1.." CLI_STR(BG_MAX_PERIOD)
+             " or 0 (that axis not tiled); X,Y leaves z untiled, one N tiles all three; needs an "
+             "integer lacunarity",
+     .parse = parse_period, .format = format_period},
+    {.name = "seed", .kind = CLI_KIND_INT, .offset = DO(seed), .metavar = "N",
+     .help = "vary the pattern: octave i is moved by an offset drawn from N (0 = Perlin's "
+             "lattice, the same values as without it)", .lo = 0, .hi = 2147483647},
+    CLI_OPT_END,
+};
+#undef DO
+
 #define HO(m) offsetof(bgt_height, m)
 const cli_opt cli_height_opts[] = {
     CLI_OPT_INCLUDE(HO(h.fractal), cli_fractal_opts, NULL),
+    CLI_OPT_INCLUDE(HO(h.domain), cli_domain_opts, NULL),
     {.name = "amplitude", .kind = CLI_KIND_FLOAT, .offset = HO(h.amplitude), .metavar = "A",
      .help = "height scale A (negative flips bumps)"},
     {.name = "frequency", .kind = CLI_KIND_FLOAT, .offset = HO(h.frequency), .metavar = "F",
@@ -153,6 +207,29 @@ void cli_json_height(cli_json *j, const char *key, const bgt_height *h)
         cli_json_float(j, "frequency", h->h.frequency);
         cli_json_str(j, "gradient", h->h.gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic");
         cli_json_float(j, "step", h->h.step != 0 ? h->h.step : BG_DEFAULT_CENTRAL_STEP);
+        cli_json_domain(j, &h->h.domain);
     }
     cli_json_close(j);
+}
+
+void cli_json_domain(cli_json *j, const bg_domain *d)
+{
+    cli_json_ints(j, "period", d->period, 3);
+    cli_json_int(j, "seed", (long long)d->seed);
+}
+
+int cli_domain_check(const char *cmd, const bg_fractal *f, const bg_domain *d)
+{
+    if (bg_domain_validate(f, d) == BG_OK)
+        return 0;
+    if (d->period[0] || d->period[1] || d->period[2]) {
+        if (f->function != BG_FUNC_NOISE && f->lacunarity != floorf(f->lacunarity))
+            return cli_usage_error(cmd, "--period needs an integer --lacunarity (got %g): octave i "
+                                        "tiles with period P * lacunarity^i",
+                                   (double)f->lacunarity);
+        return cli_usage_error(cmd, "--period %d,%d,%d: the finest octave's period P * "
+                                    "lacunarity^(octaves-1) exceeds 2^24",
+                               d->period[0], d->period[1], d->period[2]);
+    }
+    return cli_usage_error(cmd, "invalid fractal parameters");
 }

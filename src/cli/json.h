@@ -38,6 +38,9 @@ void cli_json_height(cli_json *j, const char *key, const struct bgt_height *h);
 /* "function", "octaves", "lacunarity", "gain" of a fractal (heightopt.c). */
 struct bg_fractal;
 void cli_json_fractal(cli_json *j, const struct bg_fractal *f);
+struct bg_domain;
+/* "period": [X, Y, Z], "seed": N of a domain. */
+void cli_json_domain(cli_json *j, const struct bg_domain *d);
 /* The escaped form of s, for tests of the escaper. */
 void cli_json_write_string(FILE *fp, const char *s);
 

@@ -450,3 +450,221 @@ bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, float *v
 {
     return grid_call(GRID_FRACTAL_GRAD, f, g, value, gx, gy, gz);
 }
+
+/* ---- Domains: tileable noise and seeded octaves (noise.h bg_domain) ---------
+ * A set domain runs the domain kernels (the dispatched table's dfractal3*);
+ * the default (all zero) takes the plain calls, so its bits are theirs. Single
+ * points run the scalar kernel's n = 1 batch: the same bits as every ISA. */
+bg_status bg_domain_validate(const bg_fractal *f, const bg_domain *d)
+{
+    if (!f || !d)
+        return BG_ERR_NULL_POINTER;
+    bg_status s = bg_fractal_validate(f);
+    if (s != BG_OK)
+        return s;
+    return bg_domain_in_range(f, d) ? BG_OK : BG_ERR_INVALID_ARGUMENT;
+}
+
+float bg_domain_offset(unsigned int seed, int octave, int axis)
+{
+    return bg_seed_offset(seed, octave, axis);
+}
+
+static const bg_fractal pnoise_fractal = {BG_FUNC_NOISE, 1, 2.0f, 0.5f};
+
+/* The domain of periodic noise, or 0 for a NULL or out-of-range period. */
+static int pnoise_domain(const int period[3], bg_domain *d)
+{
+    if (!period)
+        return 0;
+    *d = (bg_domain){{period[0], period[1], period[2]}, 0};
+    return bg_domain_in_range(&pnoise_fractal, d);
+}
+
+/* One point over a domain, float or double, value and gradient: NaN for a bad
+ * descriptor; the plain point call for an unset domain. */
+static float domain_point(const bg_fractal *f, const bg_domain *d, float x, float y, float z,
+                          float g[3])
+{
+    if (!bg_fractal_in_range(f) || !bg_domain_in_range(f, d)) {
+        g[0] = g[1] = g[2] = NAN;
+        return NAN;
+    }
+    float v;
+    if (bg_domain_is_set(d))
+        bg_kernels_c.dfractal3_grad(f, d, &x, &y, &z, 1, &v, &g[0], &g[1], &g[2]);
+    else
+        bg_kernels_c.fractal3_grad(f, &x, &y, &z, 1, &v, &g[0], &g[1], &g[2]);
+    return v;
+}
+
+static double domain_pointd(const bg_fractal *f, const bg_domain *d, double x, double y, double z,
+                            bg_dvec3 *g)
+{
+    if (!bg_fractal_in_range(f) || !bg_domain_in_range(f, d)) {
+        g->x = g->y = g->z = NAN;
+        return NAN;
+    }
+    double v;
+    if (bg_domain_is_set(d))
+        bg_kernels_c64.dfractal3_grad(f, d, &x, &y, &z, 1, &v, &g->x, &g->y, &g->z);
+    else
+        bg_kernels_c64.fractal3_grad(f, &x, &y, &z, 1, &v, &g->x, &g->y, &g->z);
+    return v;
+}
+
+float bg_fractal3_domain(const bg_fractal *f, const bg_domain *d, float x, float y, float z)
+{
+    float g[3];
+    return domain_point(f, d, x, y, z, g);
+}
+
+float bg_fractal3_domain_grad(const bg_fractal *f, const bg_domain *d, float x, float y, float z,
+                              bg_vec3 *grad)
+{
+    float g[3], v = domain_point(f, d, x, y, z, g);
+    grad->x = g[0], grad->y = g[1], grad->z = g[2];
+    return v;
+}
+
+double bg_fractal3d_domain(const bg_fractal *f, const bg_domain *d, double x, double y, double z)
+{
+    bg_dvec3 g;
+    return domain_pointd(f, d, x, y, z, &g);
+}
+
+double bg_fractal3d_domain_grad(const bg_fractal *f, const bg_domain *d, double x, double y,
+                                double z, bg_dvec3 *grad)
+{
+    return domain_pointd(f, d, x, y, z, grad);
+}
+
+float bg_pnoise3(float x, float y, float z, const int period[3])
+{
+    bg_domain d;
+    float g[3];
+    return pnoise_domain(period, &d) ? domain_point(&pnoise_fractal, &d, x, y, z, g) : NAN;
+}
+
+float bg_pnoise3_grad(float x, float y, float z, const int period[3], bg_vec3 *grad)
+{
+    bg_domain d;
+    float g[3] = {NAN, NAN, NAN}, v = NAN;
+    if (pnoise_domain(period, &d))
+        v = domain_point(&pnoise_fractal, &d, x, y, z, g);
+    grad->x = g[0], grad->y = g[1], grad->z = g[2];
+    return v;
+}
+
+double bg_pnoise3d(double x, double y, double z, const int period[3])
+{
+    bg_dvec3 g;
+    return bg_pnoise3d_grad(x, y, z, period, &g);
+}
+
+double bg_pnoise3d_grad(double x, double y, double z, const int period[3], bg_dvec3 *grad)
+{
+    bg_domain d;
+    if (!pnoise_domain(period, &d)) {
+        grad->x = grad->y = grad->z = NAN;
+        return NAN;
+    }
+    return domain_pointd(&pnoise_fractal, &d, x, y, z, grad);
+}
+
+/* The batch check of a domain call: batch_ready, then bg_domain_validate. */
+static int domain_ready(size_t n, const bg_fractal *f, const bg_domain *d, const void *x,
+                        const void *y, const void *z, const void *o1, const void *o2,
+                        const void *o3, bg_status *st)
+{
+    if (n && !d) {
+        *st = BG_ERR_NULL_POINTER;
+        return 0;
+    }
+    if (!batch_ready(n, 1, f, x, y, z, o1, o2, o3, st))
+        return 0;
+    *st = bg_domain_validate(f, d);
+    return *st == BG_OK;
+}
+
+bg_status bg_fractal3_domain_batch(const bg_fractal *f, const bg_domain *d, const float *x,
+                                   const float *y, const float *z, size_t n, float *value)
+{
+    bg_status s;
+    if (!domain_ready(n, f, d, x, y, z, value, value, value, &s))
+        return s;
+    if (bg_domain_is_set(d))
+        bg_kernels()->dfractal3(f, d, x, y, z, n, value);
+    else
+        bg_kernels()->fractal3(f, x, y, z, n, value);
+    return BG_OK;
+}
+
+bg_status bg_fractal3_domain_grad_batch(const bg_fractal *f, const bg_domain *d, const float *x,
+                                        const float *y, const float *z, size_t n, float *value,
+                                        float *gx, float *gy, float *gz)
+{
+    bg_status s;
+    if (!domain_ready(n, f, d, x, y, z, gx, gy, gz, &s))
+        return s;
+    if (bg_domain_is_set(d))
+        bg_kernels()->dfractal3_grad(f, d, x, y, z, n, value, gx, gy, gz);
+    else
+        bg_kernels()->fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
+}
+
+bg_status bg_fractal3_domain_grad_central_batch(const bg_fractal *f, const bg_domain *d, float h,
+                                                const float *x, const float *y, const float *z,
+                                                size_t n, float *value, float *gx, float *gy,
+                                                float *gz)
+{
+    bg_status s;
+    if (!domain_ready(n, f, d, x, y, z, gx, gy, gz, &s))
+        return s;
+    if (!bg_central_step_ok(h))
+        return BG_ERR_INVALID_ARGUMENT;
+    if (bg_domain_is_set(d))
+        bg_kernels()->dfractal3_grad_central(f, d, h, x, y, z, n, value, gx, gy, gz);
+    else
+        bg_kernels()->fractal3_grad_central(f, h, x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
+}
+
+bg_status bg_fractal3d_domain_grad_batch(const bg_fractal *f, const bg_domain *d,
+                                         const double *x, const double *y, const double *z,
+                                         size_t n, double *value, double *gx, double *gy,
+                                         double *gz)
+{
+    bg_status s;
+    if (!domain_ready(n, f, d, x, y, z, gx, gy, gz, &s))
+        return s;
+    if (bg_domain_is_set(d))
+        bg_kernels_c64.dfractal3_grad(f, d, x, y, z, n, value, gx, gy, gz);
+    else
+        bg_kernels_c64.fractal3_grad(f, x, y, z, n, value, gx, gy, gz);
+    return BG_OK;
+}
+
+bg_status bg_pnoise3_batch(const int period[3], const float *x, const float *y, const float *z,
+                           size_t n, float *value)
+{
+    if (n && !period)
+        return BG_ERR_NULL_POINTER;
+    bg_domain d = {{0, 0, 0}, 0};
+    if (n)
+        d = (bg_domain){{period[0], period[1], period[2]}, 0};
+    return bg_fractal3_domain_batch(&pnoise_fractal, &d, x, y, z, n, value);
+}
+
+bg_status bg_pnoise3_grad_batch(const int period[3], const float *x, const float *y,
+                                const float *z, size_t n, float *value, float *gx, float *gy,
+                                float *gz)
+{
+    if (n && !period)
+        return BG_ERR_NULL_POINTER;
+    bg_domain d = {{0, 0, 0}, 0};
+    if (n)
+        d = (bg_domain){{period[0], period[1], period[2]}, 0};
+    return bg_fractal3_domain_grad_batch(&pnoise_fractal, &d, x, y, z, n, value, gx, gy, gz);
+}

@@ -43,10 +43,38 @@ static inline int bg_fractal_in_range(const bg_fractal *f)
 int bg_fractal_octave_sums(const bg_fractal *f, double *sum_amp, double *sum_amp_freq,
                            float *max_freq);
 
+/* 1 if domain `d` suits fractal `f` (in range): bg_domain_validate's checks.
+ * The finest octave's period P * L^(octaves-1) is built in float by repeated
+ * multiplication, as the kernels build it (bump_tmpl.c octlat_init). */
+static inline int bg_domain_in_range(const bg_fractal *f, const bg_domain *d)
+{
+    if (!d)
+        return 0;
+    int any = 0;
+    for (int a = 0; a < 3; a++) {
+        if (d->period[a] < 0 || d->period[a] > BG_MAX_PERIOD)
+            return 0;
+        any |= d->period[a] != 0;
+    }
+    if (!any || f->function == BG_FUNC_NOISE)
+        return 1;
+    float lac = f->lacunarity;
+    if (!(lac >= 1 && lac <= 16777216.0f && lac == floorf(lac)))
+        return 0;
+    for (int a = 0; a < 3; a++) {
+        float p = (float)d->period[a];
+        for (int i = 1; i < f->octaves && p > 0; i++)
+            if ((p *= lac) > 16777216.0f)
+                return 0;
+    }
+    return 1;
+}
+
 /* 1 if `h` passes every check of bg_height_validate except the overflow one. */
 static inline int bg_height_in_range(const bg_height *h)
 {
-    return h && bg_fractal_in_range(&h->fractal) && isfinite(h->amplitude) &&
+    return h && bg_fractal_in_range(&h->fractal) && bg_domain_in_range(&h->fractal, &h->domain) &&
+           isfinite(h->amplitude) &&
            isfinite(h->frequency) && h->step >= 0 && isfinite(h->step) &&
            (h->gradient == BG_GRADIENT_ANALYTIC || h->gradient == BG_GRADIENT_CENTRAL);
 }

@@ -96,6 +96,7 @@ bg_height bg_height_default(void)
     h.frequency = 1.0f;
     h.gradient = BG_GRADIENT_ANALYTIC;
     h.step = 0.0f;
+    h.domain = (bg_domain){{0, 0, 0}, 0};
     return h;
 }
 
@@ -129,11 +130,20 @@ float bg_height_eval(const bg_height *h, bg_vec3 p, bg_vec3 *grad)
     /* Same arithmetic, in the same order, as the fused kernel (q = f p, grad = (A f) F'). */
     float q[3] = {p.x * h->frequency, p.y * h->frequency, p.z * h->frequency};
     float v, g[3];
-    if (h->gradient == BG_GRADIENT_CENTRAL)
-        bg_kernels_c.fractal3_grad_central(&h->fractal, h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP,
-                                           &q[0], &q[1], &q[2], 1, &v, &g[0], &g[1], &g[2]);
-    else
+    const float step = h->step > 0 ? h->step : BG_DEFAULT_CENTRAL_STEP;
+    if (bg_domain_is_set(&h->domain)) {
+        if (h->gradient == BG_GRADIENT_CENTRAL)
+            bg_kernels_c.dfractal3_grad_central(&h->fractal, &h->domain, step, &q[0], &q[1], &q[2],
+                                                1, &v, &g[0], &g[1], &g[2]);
+        else
+            bg_kernels_c.dfractal3_grad(&h->fractal, &h->domain, &q[0], &q[1], &q[2], 1, &v, &g[0],
+                                        &g[1], &g[2]);
+    } else if (h->gradient == BG_GRADIENT_CENTRAL) {
+        bg_kernels_c.fractal3_grad_central(&h->fractal, step, &q[0], &q[1], &q[2], 1, &v, &g[0],
+                                           &g[1], &g[2]);
+    } else {
         bg_kernels_c.fractal3_grad(&h->fractal, &q[0], &q[1], &q[2], 1, &v, &g[0], &g[1], &g[2]);
+    }
     float af = h->amplitude * h->frequency;
     if (grad)
         grad->x = af * g[0], grad->y = af * g[1], grad->z = af * g[2];

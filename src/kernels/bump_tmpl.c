@@ -72,6 +72,27 @@ BG_INLINE vhash vi_hashp(vi X, vi Y, vi Z)
 }
 BG_INLINE vi vh_corner(const vhash *s, int k) { return s->h[k]; }
 #endif
+#ifndef BG_HAVE_HASHP
+/* The periodic chain (noise.h bg_domain): the lattice has already wrapped, so
+ * each corner's coordinate is given (X1 is X + 1, or 0 at the seam) and the
+ * reference's chain p[p[p[X] + Y] + Z] runs on it, one lookup per index: the
+ * pair trick of vi_hash8 needs X1 = X + 1. 14 lookups instead of 7. With
+ * every period 256 (X1 = X + 1 mod 256) these are the reference's hashes. The
+ * byte-lane vocabularies (vec_avx2.h, vec_avx512.h VBMI) give the same hashes
+ * with their own vi_hashp_per. */
+BG_INLINE vi vi_perm1(vi i) { return vi_and(vi_perm2(i), vi_set1(255)); }
+BG_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
+{
+    vhash s;
+    vi px[2] = {vi_perm1(X), vi_perm1(X1)}, ys[2] = {Y, Y1};
+    for (int k = 0; k < 4; k++) {
+        vi pxy = vi_perm1(vi_add(px[k & 1], ys[k >> 1]));
+        s.h[k] = vi_perm1(vi_add(pxy, Z));
+        s.h[k + 4] = vi_perm1(vi_add(pxy, Z1));
+    }
+    return s;
+}
+#endif
 #if defined(BG_HAVE_HASHP) && !defined(BG_NO_PIPELINE)
 #define BG_PIPELINE 1
 #endif
@@ -268,6 +289,89 @@ BG_INLINE vcell cell_refrac(vcell c, vf x, vf y, vf z)
 }
 #endif
 
+/* ---- Domains: tileable lattices and seeded octaves (noise.h bg_domain) ----
+ * The cell floor(x) reduced modulo the period P (an integer-valued bg_real,
+ * 1 <= P <= 2^24, 1/P given rounded): r = fl - P floor((fl + 1/2) / P). The
+ * quotient (fl + 1/2) / P is never an integer and lies at least 1/(2P) from
+ * one, more than the rounding of (fl + 1/2) * (1/P) moves it while |fl| <
+ * 2^22 (float; 2^51 in double), so its floor is exact and so is r, with no
+ * correction step. Beyond (the fraction is mostly gone there), r is a fixed
+ * function of fl, the same on every ISA, that need not lie in [0, P):
+ * vi_cell256 takes it modulo 256 (0 for NaN/Inf), so no index leaves the
+ * table. *c1 is the next corner's cell, r + 1, or 0 at the seam. Both are
+ * used modulo 256 by the hash, as the plain lattice is: with P = 256 the
+ * cells are vi_cell256's and the hashes the plain noise's. */
+BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
+{
+    vf vp = vf_set1(P), zero = vf_set1(0);
+    vf fl = vf_floor(x);
+    vf q = vf_floor(vf_mul(vf_add(fl, vf_set1((bg_real)0.5)), vf_set1(invP)));
+    vf r = vf_sub(fl, vf_mul(q, vp));
+    vf r1 = vf_add(r, vf_set1(1));
+    r1 = vf_sel(vf_le(vp, r1), zero, r1);
+#ifdef BG_SCALAR_DOUBLE
+    /* No vi_cell256 in double: out-of-range cells (and NaN) become 0. */
+    r = vf_sel(vm_and(vf_le(zero, r), vf_lt(r, vp)), r, zero);
+    r1 = vf_sel(vm_and(vf_le(zero, r1), vf_lt(r1, vp)), r1, zero);
+    *c0 = vi_and(vi_from_vf(r), vi_set1(255));
+    *c1 = vi_and(vi_from_vf(r1), vi_set1(255));
+#else
+    *c0 = vi_cell256(r);
+    *c1 = vi_cell256(r1);
+#endif
+    return vf_sub(x, fl);
+}
+
+/* Per octave: the seed offset and the period (P L^i, or 256 for an untiled
+ * axis: the plain lattice's own period) with its reciprocal, built once per
+ * call in bg_real by the same operations on every ISA. */
+typedef struct octlat {
+    bg_real off[BG_MAX_OCTAVES][3], per[BG_MAX_OCTAVES][3], inv[BG_MAX_OCTAVES][3];
+    int tiled;  /* some period is set; else (a seed alone) the plain cells */
+    int seeded; /* offsets to add (seed != 0); adding +0 would give the same bits */
+} octlat;
+static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *d)
+{
+    L->tiled = d->period[0] || d->period[1] || d->period[2];
+    L->seeded = d->seed != 0;
+    int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
+    bg_real freq = 1;
+    const bg_real lac = (bg_real)f->lacunarity;
+    for (int i = 0; i < octaves; i++) {
+        for (int a = 0; a < 3; a++) {
+            bg_real P = d->period[a] ? (bg_real)d->period[a] * freq : (bg_real)256;
+            L->off[i][a] = (bg_real)bg_seed_offset(d->seed, i, a);
+            L->per[i][a] = P;
+            L->inv[i][a] = (bg_real)1 / P;
+        }
+        freq *= lac;
+    }
+}
+
+/* Octave i's cell at freq * p (+ its offset, wrapped, with a domain L; the
+ * plain cell for L = NULL, a constant after inlining). */
+BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real freq)
+{
+    vf fq = vf_set1(freq);
+    vf qx = vf_mul(x, fq), qy = vf_mul(y, fq), qz = vf_mul(z, fq);
+    if (!L)
+        return noise_cell(qx, qy, qz);
+    if (L->seeded) {
+        qx = vf_add(qx, vf_set1(L->off[i][0]));
+        qy = vf_add(qy, vf_set1(L->off[i][1]));
+        qz = vf_add(qz, vf_set1(L->off[i][2]));
+    }
+    if (!L->tiled) /* periods 256: the plain cells, the same bits at less cost */
+        return noise_cell(qx, qy, qz);
+    vi X, Y, Z, X1, Y1, Z1;
+    vcell c;
+    c.fx = lattice_per(qx, L->per[i][0], L->inv[i][0], &X, &X1);
+    c.fy = lattice_per(qy, L->per[i][1], L->inv[i][1], &Y, &Y1);
+    c.fz = lattice_per(qz, L->per[i][2], L->inv[i][2], &Z, &Z1);
+    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1);
+    return c;
+}
+
 /* The gradient only when `want_grad` (a constant after inlining, so the
  * value-only kernel does no gradient work). */
 BG_INLINE corner noise_at(vcell c, int want_grad)
@@ -334,7 +438,7 @@ BG_INLINE vf octave_weight(vf fp, bg_real freq)
  * show. A weight of exactly 1 multiplies exactly, so footprint 0 reproduces the
  * unfiltered sum bit for bit. */
 BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad, int use_fp,
-                                vf fp)
+                                vf fp, const octlat *L)
 {
     int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
     if (use_fp) {
@@ -360,7 +464,7 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
             o.v = o.gx = o.gy = o.gz = vf_set1(0);
             return o;
         }
-        o = noise_vec(x, y, z, want_grad);
+        o = L ? noise_at(octave_cell(L, 0, x, y, z, 1), want_grad) : noise_vec(x, y, z, want_grad);
         if (use_fp) {
             /* Not a sum: weight 1 must return the noise itself (even -0). */
             vf w = octave_weight(fp, 1);
@@ -376,21 +480,17 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
     s.v = s.gx = s.gy = s.gz = vf_set1(0);
 #ifdef BG_PIPELINE
     /* Octave i + 1's hash chain is started before octave i's corners (noise_at). */
-    vf fq = vf_set1(freq);
-    vcell cell = noise_cell(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq));
+    vcell cell = octave_cell(L, 0, x, y, z, freq);
 #endif
     for (int i = 0; i < octaves; i++) {
 #ifdef BG_PIPELINE
         vcell next = cell;
-        if (i + 1 < octaves) {
-            vf nfq = vf_set1(freq * lac);
-            next = noise_cell(vf_mul(x, nfq), vf_mul(y, nfq), vf_mul(z, nfq));
-        }
+        if (i + 1 < octaves)
+            next = octave_cell(L, i + 1, x, y, z, freq * lac);
         corner o = noise_at(cell, want_grad);
         cell = next;
 #else
-        vf fq = vf_set1(freq);
-        corner o = noise_vec(vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq), want_grad);
+        corner o = noise_at(octave_cell(L, i, x, y, z, freq), want_grad);
 #endif
         vf a = vf_set1(amp), af = vf_set1(amp * freq);
         if (use_fp) {
@@ -421,9 +521,14 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
     return s;
 }
 
+BG_INLINE corner fractal_vec_l(const bg_fractal *f, vf x, vf y, vf z, int want_grad,
+                               const octlat *L)
+{
+    return fractal_fp_vec(f, x, y, z, want_grad, 0, vf_set1(0), L);
+}
 BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
 {
-    return fractal_fp_vec(f, x, y, z, want_grad, 0, vf_set1(0));
+    return fractal_vec_l(f, x, y, z, want_grad, NULL);
 }
 
 /* A step below the spacing of the coordinate's floating-point grid rounds to
@@ -437,8 +542,9 @@ static inline vf central_quotient(vf num, vf den)
 
 /* Central differences: (F(x+h) - F(x-h)) / ((x+h) - (x-h)), dividing by the step
  * actually taken, which differs from 2h once x is large (rounding of x +- h). */
-BG_INLINE corner fractal_central_vec(const bg_fractal *f, vf h, vf x, vf y, vf z)
+BG_INLINE corner fractal_central_vec(const bg_fractal *f, vf h, vf x, vf y, vf z, const octlat *L)
 {
+#define fractal_vec(f, x, y, z, g) fractal_vec_l(f, x, y, z, g, L)
     corner r = fractal_vec(f, x, y, z, 0);
     vf xp = vf_add(x, h), xm = vf_sub(x, h);
     vf yp = vf_add(y, h), ym = vf_sub(y, h);
@@ -449,6 +555,7 @@ BG_INLINE corner fractal_central_vec(const bg_fractal *f, vf h, vf x, vf y, vf z
                             vf_sub(yp, ym));
     r.gz = central_quotient(vf_sub(fractal_vec(f, x, y, zp, 0).v, fractal_vec(f, x, y, zm, 0).v),
                             vf_sub(zp, zm));
+#undef fractal_vec
     return r;
 }
 
@@ -562,14 +669,17 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
  * than it hides (the sse2 and scalar rows of docs/PERFORMANCE.md). */
 #ifndef BG_PIPELINE
 #define BG_PIPELINED(i, n, AT)
+#define BG_PIPELINED_CELL(i, n, AT, CELL)
 #else
-#define BG_PIPELINED(i, n, AT)                                                                  \
+#define BG_CELL_PLAIN(p) noise_cell(vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),        \
+                                    vf_loadn(z + (p), LANES))
+#define BG_PIPELINED(i, n, AT) BG_PIPELINED_CELL(i, n, AT, BG_CELL_PLAIN)
+#define BG_PIPELINED_CELL(i, n, AT, CELL)                                                       \
     if ((n) >= 2 * LANES) {                                                                    \
-        vcell c_ = noise_cell(vf_loadn(x, LANES), vf_loadn(y, LANES), vf_loadn(z, LANES));     \
+        vcell c_ = CELL(0);                                                                    \
         for (; i + 2 * LANES <= (n); i += LANES) {                                             \
             size_t j_ = i + LANES;                                                             \
-            vcell next_ = noise_cell(vf_loadn(x + j_, LANES), vf_loadn(y + j_, LANES),         \
-                                     vf_loadn(z + j_, LANES));                                 \
+            vcell next_ = CELL(j_);                                                            \
             AT(c_, i);                                                                         \
             c_ = next_;                                                                        \
         }                                                                                      \
@@ -584,8 +694,10 @@ BG_INLINE void store_out(bg_real *p, vf v, size_t c) { vf_storen(p, vf_canon(v),
  * instructions per sample, 3% slower). */
 #if defined(BG_PIPELINE) && defined(BG_PIPELINE_GRAD)
 #define BG_PIPELINED_GRAD BG_PIPELINED
+#define BG_PIPELINED_GRAD_CELL BG_PIPELINED_CELL
 #else
 #define BG_PIPELINED_GRAD(i, n, AT)
+#define BG_PIPELINED_GRAD_CELL(i, n, AT, CELL)
 #endif
 
 void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n, bg_real *v)
@@ -682,7 +794,7 @@ void KFN(fractal3_grad_central)(const bg_fractal *f, bg_real h, const bg_real *x
     BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_central_vec(f, hv, vf_loadn(x + i, c), vf_loadn(y + i, c),
-                                       vf_loadn(z + i, c));
+                                       vf_loadn(z + i, c), NULL);
         store_corner(r, i, c, v, gx, gy, gz);
     }
 #ifdef BG_SCALAR_TAIL
@@ -708,7 +820,86 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
     }
 }
 
+/* ---- Fractals over a domain (noise.h bg_domain) ----------------------------
+ * The caller validated `d` (bg_domain_validate) and found it set. Periodic
+ * noise (BG_FUNC_NOISE) pipelines its hash chains as noise3 does. */
+#define BG_CELL_DOM(p) octave_cell(&L, 0, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),     \
+                                   vf_loadn(z + (p), LANES), 1)
+void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real *x,
+                         const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
+                         bg_real *gy, bg_real *gz)
+{
+    octlat L;
+    octlat_init(&L, f, d);
+    size_t i0 = 0;
+    if (f->function == BG_FUNC_NOISE) {
+#define DNOISE_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
+        BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)
+#undef DNOISE_GRAD_AT
+    }
+    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
+    {
+        corner r = fractal_vec_l(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1,
+                                 &L);
+        store_corner(r, i, c, v, gx, gy, gz);
+    }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.dfractal3_grad(f, d, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t, gy + t,
+                                    gz + t);
+    }
+#endif
+}
+
 #ifndef BG_SCALAR_DOUBLE
+void KFN(dfractal3)(const bg_fractal *f, const bg_domain *d, const bg_real *x, const bg_real *y,
+                    const bg_real *z, size_t n, bg_real *v)
+{
+    octlat L;
+    octlat_init(&L, f, d);
+    size_t i0 = 0;
+    if (f->function == BG_FUNC_NOISE) {
+#define DNOISE_AT(cell, p) store_out(v + (p), noise_at(cell, 0).v, LANES)
+        BG_PIPELINED_CELL(i0, BG_VEC_N(n), DNOISE_AT, BG_CELL_DOM)
+#undef DNOISE_AT
+    }
+    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
+    {
+        corner r = fractal_vec_l(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0,
+                                 &L);
+        store_out(v + i, r.v, c);
+    }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.dfractal3(f, d, x + t, y + t, z + t, 1, v + t);
+    }
+#endif
+}
+
+void KFN(dfractal3_grad_central)(const bg_fractal *f, const bg_domain *d, bg_real h,
+                                 const bg_real *x, const bg_real *y, const bg_real *z, size_t n,
+                                 bg_real *v, bg_real *gx, bg_real *gy, bg_real *gz)
+{
+    octlat L;
+    octlat_init(&L, f, d);
+    vf hv = vf_set1(h);
+    BG_FOR_BATCH(i, c, BG_VEC_N(n))
+    {
+        corner r = fractal_central_vec(f, hv, vf_loadn(x + i, c), vf_loadn(y + i, c),
+                                       vf_loadn(z + i, c), &L);
+        store_corner(r, i, c, v, gx, gy, gz);
+    }
+#ifdef BG_SCALAR_TAIL
+    if (BG_TAIL1(n)) {
+        size_t t = n - 1;
+        bg_kernels_c.dfractal3_grad_central(f, d, h, x + t, y + t, z + t, 1, BG_OPT(v, t), gx + t,
+                                            gy + t, gz + t);
+    }
+#endif
+}
+
 /* Fractal value + analytic gradient with per-sample footprints (noise space). */
 void KFN(fractal3_grad_fp)(const bg_fractal *f, const bg_real *fp, const bg_real *x,
                            const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
@@ -717,7 +908,7 @@ void KFN(fractal3_grad_fp)(const bg_fractal *f, const bg_real *fp, const bg_real
     BG_FOR_BATCH(i, c, BG_VEC_N(n))
     {
         corner r = fractal_fp_vec(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1,
-                                  1, vf_loadn(fp + i, c));
+                                  1, vf_loadn(fp + i, c), NULL);
         store_corner(r, i, c, v, gx, gy, gz);
     }
 #ifdef BG_SCALAR_TAIL
@@ -735,7 +926,7 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
                                    const bg_real *px, const bg_real *py, const bg_real *pz,
                                    const bg_real *nx, const bg_real *ny, const bg_real *nz,
                                    size_t n, bg_real *height, bg_real *ox, bg_real *oy,
-                                   bg_real *oz)
+                                   bg_real *oz, const octlat *L)
 {
     vf freq = vf_set1(h->frequency), amp = vf_set1(h->amplitude);
     vf af = vf_set1(h->amplitude * h->frequency);
@@ -747,9 +938,9 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
         vf qy = vf_mul(vf_loadn(py + i, c), freq);
         vf qz = vf_mul(vf_loadn(pz + i, c), freq);
         corner r = fp        ? fractal_fp_vec(&h->fractal, qx, qy, qz, 1, 1,
-                                              vf_mul(vf_loadn(fp + i, c), freq))
-                   : central ? fractal_central_vec(&h->fractal, step, qx, qy, qz)
-                             : fractal_vec(&h->fractal, qx, qy, qz, 1);
+                                              vf_mul(vf_loadn(fp + i, c), freq), L)
+                   : central ? fractal_central_vec(&h->fractal, step, qx, qy, qz, L)
+                             : fractal_vec_l(&h->fractal, qx, qy, qz, 1, L);
         v3 nn = {vf_loadn(nx + i, c), vf_loadn(ny + i, c), vf_loadn(nz + i, c)};
         v3 gg = {vf_mul(af, r.gx), vf_mul(af, r.gy), vf_mul(af, r.gz)};
         v3 o = perturb_vec(m, nn, gg);
@@ -777,7 +968,13 @@ void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_re
                             const bg_real *nx, const bg_real *ny, const bg_real *nz, size_t n,
                             bg_real *height, bg_real *ox, bg_real *oy, bg_real *oz)
 {
-    perturb_height_impl(h, m, fp, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+    if (bg_domain_is_set(&h->domain)) {
+        octlat L;
+        octlat_init(&L, &h->fractal, &h->domain);
+        perturb_height_impl(h, m, fp, px, py, pz, nx, ny, nz, n, height, ox, oy, oz, &L);
+    } else {
+        perturb_height_impl(h, m, fp, px, py, pz, nx, ny, nz, n, height, ox, oy, oz, NULL);
+    }
 }
 
 void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real *px,
@@ -785,7 +982,13 @@ void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real 
                          const bg_real *ny, const bg_real *nz, size_t n, bg_real *height,
                          bg_real *ox, bg_real *oy, bg_real *oz)
 {
-    perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+    if (bg_domain_is_set(&h->domain)) {
+        octlat L;
+        octlat_init(&L, &h->fractal, &h->domain);
+        perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz, &L);
+    } else {
+        perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz, NULL);
+    }
 }
 #endif
 
@@ -913,6 +1116,7 @@ const bg_kernel_table_d bg_kernels_c64 = {
     .fractal3_grad = bg_fractal3_grad_c64,
     .fractal3_grad_central = bg_fractal3_grad_central_c64,
     .perturb = bg_perturb_c64,
+    .dfractal3_grad = bg_dfractal3_grad_c64,
 };
 #else
 const bg_kernel_table KFN(kernels) = {
@@ -935,6 +1139,9 @@ const bg_kernel_table KFN(kernels) = {
     .noise3_point = KFN(noise3_point),
     .noise3_grad_point = KFN(noise3_grad_point),
 #endif
+    .dfractal3 = KFN(dfractal3),
+    .dfractal3_grad = KFN(dfractal3_grad),
+    .dfractal3_grad_central = KFN(dfractal3_grad_central),
     .name = BG_STR(BG_ISA_SUFFIX),
 };
 #endif

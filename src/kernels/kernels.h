@@ -39,6 +39,34 @@ static inline int bg_corner_code(int h)
  * bg_perm_nib2 with each hash replaced by its corner code (vec_avx2.h). */
 extern const uint8_t bg_perm_code2[256];
 
+/* The seed offset of octave i along one axis (noise.h bg_domain): k / 256 with
+ * k in [0, 8192) from a 32-bit mix of (seed, octave, axis); 0 for seed 0.
+ * Exact in float and double, so every ISA and both precisions add the same
+ * value. The one definition (bg_domain_offset returns it). */
+static inline uint32_t bg_mix32(uint32_t h)
+{
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+    return h;
+}
+static inline float bg_seed_offset(uint32_t seed, int octave, int axis)
+{
+    if (!seed)
+        return 0.0f;
+    uint32_t k = bg_mix32(bg_mix32(seed) + (uint32_t)(3 * octave + axis) * 0x9e3779b9u) >> 19;
+    return (float)k * (1.0f / 256);
+}
+
+/* 1 if any field of domain `d` is set (the domain kernels run); the default,
+ * all zero, takes the plain kernels and their bits. */
+static inline int bg_domain_is_set(const bg_domain *d)
+{
+    return d->seed != 0 || d->period[0] != 0 || d->period[1] != 0 || d->period[2] != 0;
+}
+
 typedef struct bg_kernel_table {
     bg_isa isa;
     void (*noise3)(const float *x, const float *y, const float *z, size_t n, float *v);
@@ -75,6 +103,16 @@ typedef struct bg_kernel_table {
      * roundss for floor), the same operations and bits as bg_noise3_point_c. */
     float (*noise3_point)(float x, float y, float z);
     float (*noise3_grad_point)(float x, float y, float z, float g[3]);
+    /* A fractal over a domain (noise.h bg_domain; the caller checked it with
+     * bg_domain_validate and that it is active). BG_FUNC_NOISE: periodic noise. */
+    void (*dfractal3)(const bg_fractal *f, const bg_domain *d, const float *x, const float *y,
+                      const float *z, size_t n, float *v);
+    void (*dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const float *x,
+                           const float *y, const float *z, size_t n, float *v, float *gx,
+                           float *gy, float *gz);
+    void (*dfractal3_grad_central)(const bg_fractal *f, const bg_domain *d, float h,
+                                   const float *x, const float *y, const float *z, size_t n,
+                                   float *v, float *gx, float *gy, float *gz);
     /* Name of this table's variant: the BG_ISA_SUFFIX ("c", "sse2", ..., "avx512vbmi"). */
     const char *name;
 } bg_kernel_table;
@@ -91,6 +129,9 @@ typedef struct bg_kernel_table_d {
     void (*perturb)(bg_perturb_method m, const double *nx, const double *ny, const double *nz,
                     const double *gx, const double *gy, const double *gz, size_t n, double *ox,
                     double *oy, double *oz);
+    void (*dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const double *x,
+                           const double *y, const double *z, size_t n, double *v, double *gx,
+                           double *gy, double *gz);
 } bg_kernel_table_d;
 
 /* The table of the active ISA (bg_isa_active()); never NULL. */

@@ -213,6 +213,35 @@ BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm
  * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
 static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l, 4 * bg_corner_nib[k]); }
+/* The periodic chain (bump_tmpl.c octave_cell; vec_avx512.h explains it): the
+ * first step by the pair gather, whose p[X+1] is p[X1] except at the seam,
+ * where X1 = 0; the second with the byte difference Y1 - Y for the "+1"; the
+ * last looks up the z and z + 1 corners' codes separately (the low nibble of
+ * bg_perm_code2 is p[i]'s code) and packs them as vi_hashp does. */
+BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
+{
+    const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
+    const __m256i m8 = _mm256_set1_epi32(255), lo4 = _mm256_set1_epi8(15);
+    __m256i q = _mm256_i32gather_epi32(bg_perm_pair, X, 4);
+    __m256i p1 = _mm256_and_si256(_mm256_srli_epi32(q, 8), m8);
+    p1 = _mm256_blendv_epi8(p1, _mm256_set1_epi32(bg_perm256_u8[0]), _mm256_cmpeq_epi32(X1, _mm256_setzero_si256()));
+    __m256i pair = _mm256_or_si256(_mm256_and_si256(q, m8), _mm256_slli_epi32(p1, 8));
+    __m256i yb = _mm256_shuffle_epi8(Y, b0), zb = _mm256_shuffle_epi8(Z, b0);
+    __m256i dyb = _mm256_and_si256(_mm256_shuffle_epi8(_mm256_sub_epi32(Y1, Y), b0), _mm256_set1_epi32((int)0xff00ff00u));
+    __m256i dzb = _mm256_shuffle_epi8(_mm256_sub_epi32(Z1, Z), b0);
+    __m256i ab = _mm256_add_epi8(_mm256_shuffle_epi8(pair, _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13))), yb);
+    __m256i i2 = _mm256_add_epi8(_mm256_shuffle_epi8(ab, b01), dyb);
+    __m256i hz = _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+    /* Off the z seam the pair table gives both corners (vec_avx512.h). */
+    __m256i h = bg_perm_bytes_of(bg_perm_code2, hz);
+    __m256i zn = _mm256_and_si256(_mm256_add_epi32(Z, _mm256_set1_epi32(1)), m8);
+    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(Z1, zn)) != -1) {
+        __m256i hi = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(hz, dzb)), lo4);
+        h = _mm256_or_si256(_mm256_and_si256(h, lo4), _mm256_slli_epi16(hi, 4));
+    }
+    return h;
+}
 #endif
 
 /* Corner gradients (bump_tmpl.c grad_corner): vf_sel_bit(h, b, a, c) is

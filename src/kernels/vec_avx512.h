@@ -112,6 +112,37 @@ static inline vhash vi_hashp(vi X, vi Y, vi Z)
  * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
 static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 static inline vi vh_corner(const vhash *l, int k) { return _mm512_srli_epi32(*l, (unsigned)(4 * bg_corner_nib[k])); }
+/* The periodic chain (bump_tmpl.c octave_cell): the corners' cells are given
+ * wrapped (X1 = X + 1, or 0 at the seam), so the "+1" of each step becomes
+ * the byte difference X1 - X (1, or 1 - P modulo 256): the same three byte
+ * lookups for the first two steps; the last step looks up the z and z + 1
+ * corners separately (p[i] & 15 each, where bg_perm_nib2 pairs p[i], p[i+1])
+ * and packs them into vi_hashp's nibble layout. */
+static inline vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
+{
+    const __m512i b0 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    const __m512i b01 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
+    const __m512i odd = _mm512_set1_epi32((int)0xff00ff00u), lo4 = _mm512_set1_epi8(15);
+    __m512i xb = _mm512_or_si512(_mm512_or_si512(X, _mm512_slli_epi32(X, 16)),
+                                 _mm512_or_si512(_mm512_slli_epi32(X1, 8), _mm512_slli_epi32(X1, 24)));
+    __m512i yb = _mm512_shuffle_epi8(Y, b0), zb = _mm512_shuffle_epi8(Z, b0);
+    __m512i dyb = _mm512_and_si512(_mm512_shuffle_epi8(_mm512_sub_epi32(Y1, Y), b0), odd);
+    __m512i dzb = _mm512_shuffle_epi8(_mm512_sub_epi32(Z1, Z), b0);
+    __m512i ab = _mm512_add_epi8(bg_perm_bytes(xb), yb);
+    __m512i i2 = _mm512_add_epi8(_mm512_shuffle_epi8(ab, b01), dyb);
+    __m512i hz = _mm512_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
+    /* Off the z seam (Z1 = Z + 1 modulo 256, every lane of an untiled z) the
+     * pair table gives both corners, as in vi_hashp; only a vector with a lane
+     * on the seam looks the z + 1 corners up on their own (the same hashes in
+     * the other lanes). */
+    __m512i h = bg_perm_bytes_of(bg_perm_nib2, hz);
+    __m512i zn = _mm512_and_si512(_mm512_add_epi32(Z, _mm512_set1_epi32(1)), _mm512_set1_epi32(255));
+    if (_mm512_cmpneq_epi32_mask(Z1, zn)) {
+        __m512i hi = _mm512_slli_epi16(_mm512_and_si512(bg_perm_bytes(_mm512_add_epi8(hz, dzb)), lo4), 4);
+        h = _mm512_or_si512(_mm512_and_si512(h, lo4), hi);
+    }
+    return h;
+}
 #else
 #endif
 /* bg_perm_pair[idx & 255]: vpgatherdd (the VBMI variant replaces the whole

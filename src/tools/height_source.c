@@ -21,6 +21,12 @@ void bgt_height_init(bgt_height *h)
 
 bg_status bgt_height_open(bgt_height *h, bgt_err *e)
 {
+    if (bg_fractal_validate(&h->h.fractal) == BG_OK &&
+        bg_domain_validate(&h->h.fractal, &h->h.domain) != BG_OK)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--period %d,%d,%d: needs an integer --lacunarity, and the finest "
+                        "octave's period P * lacunarity^(octaves-1) at most 2^24",
+                        h->h.domain.period[0], h->h.domain.period[1], h->h.domain.period[2]);
     if (bg_height_validate(&h->h) != BG_OK)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "invalid height function parameters");
     if (h->grid_path) {
@@ -79,11 +85,13 @@ void bgt_height_gradient(const bgt_height *h, const float *px, const float *py, 
             qz[k] = pz[b + k] * f;
         }
         float *hv = height ? height + b : NULL;
+        /* The domain calls are the plain ones for the default (zero) domain. */
         if (hh->gradient == BG_GRADIENT_CENTRAL)
-            bg_fractal3_grad_central_batch(&hh->fractal, step, qx, qy, qz, m, hv, gx + b, gy + b,
-                                           gz + b);
+            bg_fractal3_domain_grad_central_batch(&hh->fractal, &hh->domain, step, qx, qy, qz, m,
+                                                  hv, gx + b, gy + b, gz + b);
         else
-            bg_fractal3_grad_batch(&hh->fractal, qx, qy, qz, m, hv, gx + b, gy + b, gz + b);
+            bg_fractal3_domain_grad_batch(&hh->fractal, &hh->domain, qx, qy, qz, m, hv, gx + b,
+                                          gy + b, gz + b);
         for (size_t k = 0; k < m; k++) {
             gx[b + k] = af * gx[b + k];
             gy[b + k] = af * gy[b + k];

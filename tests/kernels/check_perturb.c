@@ -60,7 +60,7 @@ void check_perturb(const bg_kernel_table *const *isas, int nisa)
         px[i] = rng_range(-50, 50), py[i] = rng_range(-50, 50), pz[i] = rng_range(-50, 50);
     }
     for (int m = 0; m < 3; m++) {
-        bg_height hg = {{BG_FUNC_TURBULENCE, 6, 2.0f, 0.5f}, 0.1f, 1.7f, BG_GRADIENT_ANALYTIC, 0};
+        bg_height hg = {{BG_FUNC_TURBULENCE, 6, 2.0f, 0.5f}, 0.1f, 1.7f, BG_GRADIENT_ANALYTIC, 0, {{0, 0, 0}, 0}};
         bg_kernels_c.perturb_height(&hg, (bg_perturb_method)m, px, py, pz, nx, ny, nz, N, hh, ox,
                                     oy, oz);
         for (int i = 0; i < N; i++)

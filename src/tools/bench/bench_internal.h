@@ -42,6 +42,14 @@ enum {
     /* The memory floor of the noise3 row: v = x + y + z over the same arrays
      * (the same 16 bytes per sample), plain C, measured once. */
     K_STREAM3,
+    /* Over a domain (noise.h bg_domain), on each ISA's table: periodic noise
+     * and 6-octave fBm with periods (16, 16, 16), and fBm with seed 1. */
+    K_PNOISE3,
+    K_PNOISE3_GRAD,
+    K_PFBM3,
+    K_PFBM3_GRAD,
+    K_SFBM3_GRAD,
+    K_PFBM3_GRAD_XY, /* periods (16, 16, 0): a tileable texture's x and y */
     K_COUNT
 };
 

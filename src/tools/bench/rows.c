@@ -42,7 +42,18 @@ static const kernel_info kernels[K_COUNT] = {
     {"fbm3_grid", BGT_PEER_FBM},            /* bg_fractal3_grid, 6-octave fBm */
     {"fbm3_grad_grid", BGT_PEER_FBM},       /* bg_fractal3_grad_grid */
     {"stream3", -1},                        /* v = x + y + z: noise3's memory traffic */
+    {"pnoise3", BGT_PEER_VALUE},            /* periodic noise, periods (16, 16, 16) */
+    {"pnoise3_grad", BGT_PEER_GRAD_CENTRAL}, /* + analytic gradient */
+    {"pfbm3", BGT_PEER_FBM},                /* periodic 6-octave fBm value */
+    {"pfbm3_grad", BGT_PEER_FBM},           /* + analytic gradient */
+    {"fbm3_seed_grad", BGT_PEER_FBM},       /* 6-octave fBm, seed 1, + analytic gradient */
+    {"pfbm3_grad_xy", BGT_PEER_FBM},        /* pfbm3_grad with periods (16, 16, 0) */
 };
+
+/* The domains of the rows above. */
+static const bg_domain bench_tiled = {{16, 16, 16}, 0}, bench_seeded = {{0, 0, 0}, 1},
+                       bench_tiled_xy = {{16, 16, 0}, 0};
+static const bg_fractal bench_noise = {BG_FUNC_NOISE, 1, 2.0f, 0.5f};
 
 const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT] = {"value", "fbm", "grad_central"};
 const char *const bgt_bench_peer_libraries[3] = {"stb_perlin", "libnoise", "glm"};
@@ -163,6 +174,16 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
     case K_PERTURB_ADDITIVE:
         t->perturb(j->kernel == K_PERTURB_SURFGRAD ? BG_PERTURB_SURFGRAD : BG_PERTURB_ADDITIVE,
                    d->nx + b, d->ny + b, d->nz + b, d->gx + b, d->gy + b, d->gz + b, n, ox, oy, oz);
+        break;
+    case K_PNOISE3: t->dfractal3(&bench_noise, &bench_tiled, px, py, pz, n, v); break;
+    case K_PNOISE3_GRAD:
+        t->dfractal3_grad(&bench_noise, &bench_tiled, px, py, pz, n, v, ox, oy, oz);
+        break;
+    case K_PFBM3: t->dfractal3(&j->fbm, &bench_tiled, px, py, pz, n, v); break;
+    case K_PFBM3_GRAD: t->dfractal3_grad(&j->fbm, &bench_tiled, px, py, pz, n, v, ox, oy, oz); break;
+    case K_SFBM3_GRAD: t->dfractal3_grad(&j->fbm, &bench_seeded, px, py, pz, n, v, ox, oy, oz); break;
+    case K_PFBM3_GRAD_XY:
+        t->dfractal3_grad(&j->fbm, &bench_tiled_xy, px, py, pz, n, v, ox, oy, oz);
         break;
     case K_PERTURB_HEIGHT:
         t->perturb_height(&j->height, BG_PERTURB_SURFGRAD, px, py, pz, d->nx + b, d->ny + b,

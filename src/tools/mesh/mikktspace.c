@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "common/parallel.h"
 #include "mesh/mesh_sort.h"
 
 typedef struct d3 {
@@ -233,6 +234,40 @@ static int cmp_edge(const void *a, const void *b)
     return mesh_keys_cmp(((const edge *)a)->k, ((const edge *)b)->k, 4);
 }
 
+/* Stable LSD radix sort of e[0..n) by (k[E_LO], k[E_HI]), 16-bit digits, low
+ * digit of E_HI first: the edges are made in (triangle, edge) order, so the
+ * result is the order of cmp_edge's full key, which qsort gave (the keys are
+ * distinct, so any correct sort gives this one order): the same neighbours,
+ * without qsort's comparator calls (42% of the instructions of 180k
+ * triangles under callgrind). tmp holds n edges. */
+static void sort_edges(edge *e, edge *tmp, size_t n)
+{
+    static const int field[4] = {E_HI, E_HI, E_LO, E_LO};
+    size_t *count = calloc(65536, sizeof *count);
+    if (!count) {
+        qsort(e, n, sizeof *e, cmp_edge);
+        return;
+    }
+    edge *src = e, *dst = tmp;
+    for (int pass = 0; pass < 4; pass++) {
+        const int f = field[pass], sh = (pass & 1) ? 16 : 0;
+        memset(count, 0, 65536 * sizeof *count);
+        for (size_t i = 0; i < n; i++)
+            count[(src[i].k[f] >> sh) & 0xffff]++;
+        size_t sum = 0;
+        for (size_t d = 0; d < 65536; d++) {
+            size_t c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; i++)
+            dst[count[(src[i].k[f] >> sh) & 0xffff]++] = src[i];
+        edge *t = src;
+        src = dst, dst = t;
+    }
+    free(count); /* 4 passes: the result is back in e */
+}
+
 static int build_neighbours(mikk *k)
 {
     size_t T = k->T, n = 0;
@@ -251,7 +286,13 @@ static int build_neighbours(mikk *k)
             e[n++] = (edge){{a < b ? a : b, a < b ? b : a, (uint32_t)t, (uint32_t)c}};
         }
     }
-    qsort(e, n, sizeof *e, cmp_edge);
+    edge *tmp = malloc((n ? n : 1) * sizeof *tmp);
+    if (tmp) {
+        sort_edges(e, tmp, n);
+        free(tmp);
+    } else {
+        qsort(e, n, sizeof *e, cmp_edge);
+    }
     for (size_t i = 0; i < n; i++) {
         const uint32_t *ei = e[i].k;
         size_t ca = 3 * (size_t)ei[E_TRI] + ei[E_K];
@@ -447,6 +488,22 @@ static void fan_output(const mikk *k, size_t g, float *out, int32_t *scratch)
     }
 }
 
+/* The fans in parallel: every corner belongs to one fan (its group), so each
+ * fan writes only its own corners and the result does not depend on the
+ * threads; each worker has its own scratch. */
+#define MIKK_SCRATCH ((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1))
+typedef struct fan_job {
+    const mikk *k;
+    float *out;
+    int32_t *scratch; /* MIKK_SCRATCH per worker */
+} fan_job;
+static void fan_chunk(void *ctx, size_t b, size_t e, int worker)
+{
+    const fan_job *j = ctx;
+    for (size_t g = b; g < e; g++)
+        fan_output(j->k, g, j->out, j->scratch + (size_t)worker * MIKK_SCRATCH);
+}
+
 bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats)
 {
     bgt_mikk_stats st;
@@ -486,7 +543,8 @@ bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *
     k.g_count = malloc(3 * T * sizeof *k.g_count);
     k.members = malloc(3 * T * sizeof *k.members);
     k.stack = malloc((2 * T + 4) * sizeof *k.stack);
-    int32_t *scratch = malloc((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1) * sizeof *scratch);
+    const int threads = bgt_threads_default();
+    int32_t *scratch = malloc((size_t)threads * MIKK_SCRATCH * sizeof *scratch);
     int32_t *first = NULL;
     bg_status rc = BG_ERR_OUT_OF_MEMORY;
     if (!k.weld || !k.flags || !k.os || !k.ot || !k.fos || !k.fot || !k.nb || !k.grp || !k.g_vert || !k.g_pres ||
@@ -505,8 +563,8 @@ bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *
     for (size_t c = 0; c < 3 * T; c++) {
         out[4 * c] = 1.0f, out[4 * c + 1] = 0.0f, out[4 * c + 2] = 0.0f, out[4 * c + 3] = -1.0f;
     }
-    for (size_t g = 0; g < k.groups; g++)
-        fan_output(&k, g, out, scratch);
+    fan_job fj = {&k, out, scratch};
+    bgt_parallel_for(k.groups, 4096, threads, fan_chunk, &fj);
     for (size_t c = 0; c < 3 * T; c++)
         if (!(k.flags[c / 3] & TRI_DEGENERATE) && k.grp[c] < 0)
             st.unreached++;

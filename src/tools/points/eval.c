@@ -13,6 +13,7 @@ static const char *const eval_header[] = {"x", "y", "z"};
 
 typedef struct eval_job {
     const bg_fractal *f;
+    const bg_domain *d;
     int central, dbl;
     double step;
     float *fc[7];
@@ -33,17 +34,18 @@ static void eval_chunk(void *ctx, size_t b, size_t e, int worker)
                 c[4][i] = g.x, c[5][i] = g.y, c[6][i] = g.z;
             }
         } else {
-            bg_fractal3d_grad_batch(j->f, c[0] + b, c[1] + b, c[2] + b, n, c[3] + b, c[4] + b,
-                                    c[5] + b, c[6] + b);
+            bg_fractal3d_domain_grad_batch(j->f, j->d, c[0] + b, c[1] + b, c[2] + b, n, c[3] + b,
+                                           c[4] + b, c[5] + b, c[6] + b);
         }
     } else {
         float **c = j->fc;
         if (j->central)
-            bg_fractal3_grad_central_batch(j->f, (float)j->step, c[0] + b, c[1] + b, c[2] + b, n,
-                                           c[3] + b, c[4] + b, c[5] + b, c[6] + b);
+            bg_fractal3_domain_grad_central_batch(j->f, j->d, (float)j->step, c[0] + b, c[1] + b,
+                                                  c[2] + b, n, c[3] + b, c[4] + b, c[5] + b,
+                                                  c[6] + b);
         else
-            bg_fractal3_grad_batch(j->f, c[0] + b, c[1] + b, c[2] + b, n, c[3] + b, c[4] + b,
-                                   c[5] + b, c[6] + b);
+            bg_fractal3_domain_grad_batch(j->f, j->d, c[0] + b, c[1] + b, c[2] + b, n, c[3] + b,
+                                          c[4] + b, c[5] + b, c[6] + b);
     }
 }
 
@@ -59,7 +61,7 @@ static void eval_bind(void *ctx, void *mem)
 
 bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
 {
-    eval_job job = {.f = &o->fractal, .central = o->central, .dbl = o->dbl, .step = o->step};
+    eval_job job = {.f = &o->fractal, .d = &o->domain, .central = o->central, .dbl = o->dbl, .step = o->step};
     bgt_table_pass p = {
         .label = "eval", .input = o->input, .output = o->output,
         .allow_nonfinite = o->allow_nonfinite, .names = eval_header, .count = 3, .dbl = o->dbl,

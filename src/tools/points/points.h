@@ -21,6 +21,7 @@ typedef struct bgt_points_stats {
 typedef struct bgt_eval_opts {
     const char *input, *output; /* "-": standard input / output */
     bg_fractal fractal;
+    bg_domain domain; /* periods and seed (noise.h); zero: Perlin's lattice */
     int central;   /* central differences (step) instead of the analytic gradient */
     int dbl;       /* double precision entry points */
     double step;   /* central step, > 0 */
