@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
+#include "bake/generate.h"
 #include "bake/heightmap.h"
 #include "cli.h"
 #include "json.h"

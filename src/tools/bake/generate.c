@@ -11,7 +11,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "bake.h"
+#include "generate.h"
 #include "common/parallel.h"
 #include "bumpgrad/image.h"
 
