@@ -2,7 +2,8 @@
 """The bake's rules that a user meets before any accuracy question: padding
 (16 texels by default, one island per padded texel, never a mix), nothing
 silent (UVs outside the unit square warn with the tiles and the triangles
-left out; an empty bake fails with or without <UDIM>), and scale (the
+left out; an empty bake fails with or without <UDIM>; `render` reads a
+<UDIM> set), and scale (the
 default bake of a model and of the same model scaled by 1000 agree texel for
 texel within one 8-bit step).
 
@@ -102,6 +103,39 @@ def silent(tmp):
               % (name, p.returncode, p.stderr.strip()[-160:]))
 
 
+def render_udim(tmp):
+    """`render --normal-map 'n.<UDIM>.exr'` reads the set `mesh` wrote: a
+    cube-sphere whose six faces sit in six tiles (1001-1003, 1011-1013) renders
+    with the tiles as the procedural bump renders (the render's reference)."""
+    pos, uv, faces = cubesphere(16)
+    cell = np.floor(uv * [3, 2])
+    obj = os.path.join(tmp, "tiles.obj")
+    write_obj(obj, pos, uv * [3, 2], faces)  # atlas cell (a, b) becomes tile (a, b)
+    h = ["--function", "noise", "--frequency", "3", "--amplitude", "0.05"]
+    pat = os.path.join(tmp, "cu.<UDIM>.exr")
+    p = run([obj, "--bake-normal-map", pat, "--size", "256", "--bake-depth", "float",
+             "--filter", "none", "--samples", "1", "--quiet"] + h)
+    tiles = sorted(x for x in os.listdir(tmp) if x.startswith("cu."))
+    check(p.returncode == 0 and len(tiles) == 6 and len(set(map(tuple, cell))) == 6,
+          "render UDIM: six tiles baked (%s)" % tiles)
+    r = subprocess.run([BUMPGRAD, "render", "--mesh", obj, "--normal-map", pat, "--compare",
+                        "normalmap,none", "--view", "0.3,0.5,1", "--size", "96x96", "--output",
+                        os.path.join(tmp, "cu.png")] + h, capture_output=True, text=True)
+    st = {}
+    for line in r.stdout.splitlines():
+        if line.startswith("stats "):
+            kv = dict(x.split("=", 1) for x in line.split()[1:])
+            st[kv["method"]] = float(kv["mean_deg"])
+    check(r.returncode == 0 and st.get("normalmap", 99) < 0.05 and st.get("none", 0) > 3,
+          "render --normal-map 'cu.<UDIM>.exr': the tiles render as baked (normalmap %.4f deg, "
+          "unbumped %.2f deg from the reference)" % (st.get("normalmap", -1), st.get("none", -1)))
+    r = subprocess.run([BUMPGRAD, "render", "--mesh", obj, "--normal-map",
+                        os.path.join(tmp, "none.<UDIM>.png"), "--compare", "normalmap",
+                        "--output", os.path.join(tmp, "x.png")], capture_output=True, text=True)
+    check(r.returncode == 2 and "no tile of this UDIM set" in r.stderr,
+          "render: a UDIM set without a tile is refused with exit 2 (%s)" % r.stderr.strip())
+
+
 def scale(tmp):
     a, b = os.path.join(tmp, "cs1.obj"), os.path.join(tmp, "cs1000.obj")
     write_obj(a, *cubesphere(12, 1.0))
@@ -128,6 +162,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         padding(tmp)
         silent(tmp)
+        render_udim(tmp)
         scale(tmp)
     print("%d failures" % len(FAILS))
     return 1 if FAILS else 0

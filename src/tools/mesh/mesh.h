@@ -13,6 +13,7 @@
 #include "bumpgrad/mesh.h"
 #include "common/tool.h"
 #include "height_source.h"
+#include "mesh/mesh_texpath.h"
 #include "mesh/mikktspace.h"
 
 /* ---- normal-map bake ---- */
@@ -28,7 +29,6 @@ typedef enum mesh_tangent_source {
  * that a triangle's UV bounding box touches and at least one texel centre of
  * which is covered; at most MESH_UDIM_MAX_TILES tiles (more is refused before
  * any baking: each tile is a full W x H bake). */
-#define MESH_UDIM_TOKEN "<UDIM>"
 #define MESH_UDIM_MAX_TILES 100
 #define MESH_UDIM_V_TILES 899
 /* How a texel's height is band-limited (docs/MESH.md, "Anti-aliasing"). */

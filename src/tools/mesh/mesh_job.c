@@ -336,28 +336,6 @@ typedef struct map_out {
     const char *what;     /* for messages: "normal map" when NULL */
 } map_out;
 
-/* path with every <UDIM> replaced by the four-digit tile number */
-static char *tile_path(const char *path, int udim)
-{
-    size_t tok = strlen(MESH_UDIM_TOKEN), n = 0;
-    for (const char *p = strstr(path, MESH_UDIM_TOKEN); p; p = strstr(p + tok, MESH_UDIM_TOKEN))
-        n++;
-    char *out = malloc(strlen(path) + 1); /* 4 digits replace 6 characters */
-    if (!out)
-        return NULL;
-    char *o = out;
-    for (const char *p = path; *p;) {
-        if (n && strncmp(p, MESH_UDIM_TOKEN, tok) == 0) {
-            o += sprintf(o, "%04d", udim);
-            p += tok;
-        } else {
-            *o++ = *p++;
-        }
-    }
-    *o = '\0';
-    return out;
-}
-
 /* The map is OpenEXR: a file's extension says so, or on "-" its --format
  * (PNG without one). */
 static int map_is_exr(const char *path, const char *format)
@@ -380,7 +358,7 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
     const int to_stdout = strcmp(mo->path, "-") == 0;
     const char *final = mo->path, *target = mo->path;
     if (!to_stdout) {
-        char *fin = mo->udim ? tile_path(mo->path, udim) : strdup(mo->path);
+        char *fin = mo->udim ? mesh_udim_path(mo->path, udim) : strdup(mo->path);
         if (!fin)
             return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
         char *tmp = bgt_safe_temp_path(fin, e);
