@@ -270,7 +270,10 @@ int mesh_hi_trace(const mesh_hi *hi, const float p[3], const float n[3], const f
         unsigned pb = 0;
         float c1 = 0.0f, c2 = 0.0f;
         float tf = cast(hi, p, df, hi->distance, &prim, &b1, &b2);
-        float tb = cast(hi, p, db, hi->distance, &pb, &c1, &c2);
+        /* behind, only a hit strictly nearer than the one in front can win */
+        float tb = tf == 0.0f ? -1.0f
+                              : cast(hi, p, db, tf > 0.0f ? nextafterf(tf, 0.0f) : hi->distance,
+                                     &pb, &c1, &c2);
         if (tf < 0.0f && tb < 0.0f)
             return 0;
         if (tf < 0.0f || (tb >= 0.0f && tb < tf)) { /* the nearer one; a tie goes outward */
