@@ -10,12 +10,14 @@ vertex normals are exact, from the gradient of F(P) = |P| - 1 - A g(P / |P|):
 grad F = d - (A / |P|) (grad g - d (d . grad g)).
 
 usage: make_highpoly.py OUTDIR [--low N_LON N_LAT] [--high N_LON N_LAT]
+                        [--amplitude A] [--frequency K]
 writes OUTDIR/low.obj, high.ply (binary, positions and normals, no UVs),
 cage.obj (LOW's triangles, its vertices at 1.2 p + CAGE_SHIFT: the cage's
 rays are not LOW's normals), high_split.obj (HIGH as two
 objects, the northern and the southern half). The defaults (16 x 8 and
 256 x 128) are the tests'; `--low 100 51 --high 500 1001` gives the
-10,000-triangle LOW and the 1,000,000-triangle HIGH of docs/PERFORMANCE.md.
+10,000-triangle LOW and the 1,000,000-triangle HIGH of docs/PERFORMANCE.md;
+scripts/demo uses `--amplitude 0.05 --frequency 3` (g(K d): ripples).
 """
 import os
 import sys
@@ -23,21 +25,22 @@ import sys
 import numpy as np
 
 A = 0.08  # the displacement's amplitude
+K = 1.0   # and its frequency: g(K d)
 CAGE_SCALE = 1.2
 CAGE_SHIFT = np.array([0.04, -0.03, 0.02])
 
 
 def g(d):
-    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    x, y, z = K * d[..., 0], K * d[..., 1], K * d[..., 2]
     return 0.6 * np.sin(3 * x + 1) * np.cos(2 * y) + 0.4 * np.sin(4 * z + 0.5 * x)
 
 
 def grad_g(d):
-    x, y, z = d[..., 0], d[..., 1], d[..., 2]
+    x, y, z = K * d[..., 0], K * d[..., 1], K * d[..., 2]
     gx = 1.8 * np.cos(3 * x + 1) * np.cos(2 * y) + 0.2 * np.cos(4 * z + 0.5 * x)
     gy = -1.2 * np.sin(3 * x + 1) * np.sin(2 * y)
     gz = 1.6 * np.cos(4 * z + 0.5 * x)
-    return np.stack([gx, gy, gz], -1)
+    return K * np.stack([gx, gy, gz], -1)
 
 
 def surface_F(p):
@@ -182,6 +185,10 @@ def main(argv):
             low = (int(a[k + 1]), int(a[k + 2]))
         if opt == "--high":
             high = (int(a[k + 1]), int(a[k + 2]))
+        if opt == "--amplitude":
+            globals()["A"] = float(a[k + 1])
+        if opt == "--frequency":
+            globals()["K"] = float(a[k + 1])
     os.makedirs(out, exist_ok=True)
     pos, nrm, uv, faces = uv_sphere(*low)
     write_obj(os.path.join(out, "low.obj"), pos, nrm, uv, faces)

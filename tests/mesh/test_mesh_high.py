@@ -26,6 +26,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import make_highpoly as mk  # noqa: E402
+from gltf_read import Gltf  # noqa: E402
 
 BUMPGRAD, ORACLE = sys.argv[1:3]
 MEASURE = "--measure" in sys.argv
@@ -63,7 +64,7 @@ def bake(tmp, low, extra, name="n.exr", n=128):
     return 2.0 * read_image(tmp, out) - 1.0, json.loads(p.stdout)
 
 
-def raster(pos, nrm, uv, faces, n):
+def raster(pos, nrm, uv, faces, n, unit=True):
     """Per texel centre of an n x n map: covered, LOW's point and unit normal
     (the bake's rule: centres on a shared edge go to the later triangle)."""
     tri = np.full((n, n), -1)
@@ -89,7 +90,8 @@ def raster(pos, nrm, uv, faces, n):
         tri[ys, xs] = t
         P[ys, xs] = w @ pos[f]
         N[ys, xs] = w @ nrm[f]
-    N /= np.maximum(np.linalg.norm(N, axis=-1), 1e-300)[..., None]
+    if unit:
+        N /= np.maximum(np.linalg.norm(N, axis=-1), 1e-300)[..., None]
     return tri >= 0, P, N
 
 
@@ -208,7 +210,34 @@ def main():
     check(angles(gd[cov], got[cov]).mean() > 1.0, "the detail changes the map (%.2f deg mean)"
           % angles(gd[cov], got[cov]).mean())
 
-    # 6. tangent space with the defaults (samples, padding) and UDIM names, end to end
+    # 6. the glb renders as baked: the tangent-space map decoded per texel in the
+    # file's own NORMAL and TANGENT (as a viewer does) = the object-space bake
+    glb, tm = os.path.join(tmp, "hp.glb"), os.path.join(tmp, "hp_t.exr")
+    p = run([low, glb, "--from", high, "--ray-distance", str(D), "--bake-normal-map", tm,
+             "--size", str(n), "--bake-depth", "float", "--samples", "1", "--padding", "0",
+             "--units", "file"])
+    gl = Gltf(glb)
+    (attrs, tris, mat), = list(gl.primitives())
+    check(mat is not None and "normalTexture" in gl.json["materials"][mat],
+          "the glb's material uses the map as its normalTexture")
+    Tf = attrs["TANGENT"].astype(np.float64)
+    Nf = attrs["NORMAL"].astype(np.float64)
+    uvf = attrs["TEXCOORD_0"].astype(np.float64) * [1, -1] + [0, 1]  # glTF's v is down
+    # interpolated and NOT normalized, as a renderer does (mikkTSpace's rule)
+    pf, tr = attrs["POSITION"].astype(np.float64), tris.astype(np.int64)
+    cov2, _, Nn = raster(pf, Nf, uvf, tr, n, unit=False)
+    _, _, Tt = raster(pf, Tf[:, :3], uvf, tr, n, unit=False)
+    _, _, Ss = raster(pf, np.repeat(Tf[:, 3:], 3, 1), uvf, tr, n, unit=False)
+    mt = 2.0 * read_image(tmp, tm) - 1.0
+    b = np.sign(Ss[..., :1]) * np.cross(Nn, Tt)
+    dec = mt[..., :1] * Tt + mt[..., 1:2] * b + mt[..., 2:3] * Nn
+    both = cov2 & cov
+    ag = angles(dec[both], got[both])
+    check(p.returncode == 0 and ag.mean() < 0.01 and np.percentile(ag, 99) < 0.1,
+          "glb + tangent map decoded in the file's frame = object-space bake (%.5f / %.5f deg)"
+          % (ag.mean(), np.percentile(ag, 99)))
+
+    # 7. tangent space with the defaults (samples, padding) and UDIM names, end to end
     out = os.path.join(tmp, "t.glb")
     p = run([low, out, "--from", high, "--bake-normal-map", os.path.join(tmp, "t.<UDIM>.png"),
              "--size", "64", "--samples", "4", "--bake-height-map", os.path.join(tmp, "t.<UDIM>.exr")])
@@ -216,7 +245,7 @@ def main():
           and os.path.exists(os.path.join(tmp, "t.1001.exr")) and os.path.exists(out),
           "tangent-space UDIM bake with --samples 4 writes the tiles and the glb")
 
-    # 7. bad input: clear errors, exit 2, nothing written
+    # 8. bad input: clear errors, exit 2, nothing written
     pn = os.path.join(tmp, "nouv.obj")
     mk.write_obj(pn, pos, nrm, None, faces)
     empty = os.path.join(tmp, "empty.obj")
