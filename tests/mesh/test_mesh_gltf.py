@@ -81,13 +81,15 @@ def rasterize(P, UV, tris, W, H, edge=1e-4):
     return owner, wts, near
 
 
-def decode_in_file_frame(g, tmap):
-    """The map decoded per texel in the glTF's TANGENT frame; returns the unit
-    vectors and a mask of the texels that are unambiguous."""
+def decode_in_file_frame(g, tmap, materials=None):
+    """The map decoded per texel in the glTF's TANGENT frame (over the
+    primitives whose material is in `materials`, default all); returns the
+    unit vectors and a mask of the texels that are unambiguous."""
     P, Nn, T, UV, tris = [], [], [], [], []
-    for attrs, tri, _ in g.primitives():
+    for attrs, tri, mat in g.primitives():
         P, Nn, T, UV = attrs["POSITION"], attrs["NORMAL"], attrs["TANGENT"], attrs["TEXCOORD_0"]
-        tris.append(tri)
+        if materials is None or mat in materials:
+            tris.append(tri)
     tris = np.concatenate(tris).astype(np.int64)
     H, W, _ = tmap.shape
     owner, w, near = rasterize(P.astype(np.float64), UV, tris, W, H)
@@ -150,6 +152,43 @@ def model(tmp, name, src):
     return g
 
 
+def udim(tmp):
+    """A <UDIM> bake into a .glb: one material per tile, whose normalTexture is
+    that tile's map, and UVs shifted into the tile; each tile decoded in the
+    file's frame matches the object-space tile."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from make_cubesphere import cubesphere, write_obj
+    pos, uv, faces = cubesphere(16)
+    obj = os.path.join(tmp, "tiles.obj")
+    write_obj(obj, pos, uv * [3, 2], faces)  # atlas cell (a, b) becomes tile (a, b)
+    glb = os.path.join(tmp, "tiles.glb")
+    size = ["--size", "128", "--bake-depth", "float"]
+    p = run([obj, glb, "--bake-normal-map", os.path.join(tmp, "tn.<UDIM>.exr")] + size)
+    q = run([obj, "--bake-normal-map", os.path.join(tmp, "to.<UDIM>.exr"), "--space", "object"]
+            + size)
+    check(p.returncode == 0 and q.returncode == 0, "UDIM: tangent and object bakes of six tiles")
+    if p.returncode or q.returncode:
+        return
+    g = Gltf(glb)
+    mats = g.json["materials"]
+    check(len(mats) == 6 and all("normalTexture" in m for m in mats),
+          "UDIM: six materials, each with a normalTexture (%s)" % [m.get("name") for m in mats])
+    worst = (0.0, 0.0)
+    for tile in (1001, 1002, 1003, 1011, 1012, 1013):
+        sel = {i for i, m in enumerate(mats) if m.get("name", "").endswith(str(tile))}
+        tmap = read_image(tmp, os.path.join(tmp, "tn.%d.exr" % tile))
+        omap = read_image(tmp, os.path.join(tmp, "to.%d.exr" % tile))
+        dec, ok = decode_in_file_frame(g, tmap, sel)
+        a = angles_deg(dec, 2.0 * omap.reshape(-1, 3)[ok] - 1.0)
+        if ok.sum() < 1000:
+            worst = (99.0, 99.0)
+        else:
+            worst = (max(worst[0], a.mean()), max(worst[1], np.percentile(a, 99)))
+    check(worst[0] < 0.01 and worst[1] < 0.1,
+          "UDIM: every tile decoded in the file's frame matches its object-space tile (worst "
+          "mean %.5f deg, p99 %.5f deg)" % worst)
+
+
 def main():
     spider = os.path.join(MODELS, "OBJ", "spider.obj")
     duck = os.path.join(MODELS, "Collada", "duck.dae")
@@ -168,9 +207,23 @@ def main():
             jpg = [g.image_bytes(g.json["textures"][m["pbrMetallicRoughness"]
                                                     ["baseColorTexture"]["index"]]["source"])
                    for m in with_tex]
+            kd = {}
+            name = None
+            for line in open(os.path.join(MODELS, "OBJ", "spider.mtl")):
+                w = line.split()
+                if w[:1] == ["newmtl"]:
+                    name = w[1]
+                elif w[:1] == ["Kd"]:
+                    kd[name] = [float(x) for x in w[1:4]]
+            got = {m.get("name"): m["pbrMetallicRoughness"].get("baseColorFactor")
+                   for m in g.json["materials"]}
+            check(all(got.get(k) is not None and np.allclose(got[k][:3], v, atol=1e-6)
+                      for k, v in kd.items()),
+                  "spider: every material's Kd of spider.mtl is its baseColorFactor")
             orig = open(os.path.join(MODELS, "OBJ", "SpiderTex.jpg"), "rb").read()
             check(any(d == orig for d, _ in jpg), "spider: SpiderTex.jpg embedded byte for byte")
         model(tmp, "duck", duck)
+        udim(tmp)
         # .gltf: the map referenced beside it; the source textures by relative paths
         sub = os.path.join(tmp, "out")
         os.mkdir(sub)

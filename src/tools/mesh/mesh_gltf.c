@@ -30,14 +30,15 @@
 #include "mesh/mesh_gltf.h"
 #include "mesh/mesh_sort.h"
 
-/* k: vertex, the corner tangent's 4 float bit patterns, corner */
+/* k: vertex, the corner tangent's 4 float bit patterns, the corner UV's 2
+ * (with corner_uv), corner */
 typedef struct ckey {
-    uint32_t k[6];
+    uint32_t k[8];
 } ckey;
 
 static int cmp_ckey(const void *a, const void *b)
 {
-    return mesh_keys_cmp(((const ckey *)a)->k, ((const ckey *)b)->k, 6);
+    return mesh_keys_cmp(((const ckey *)a)->k, ((const ckey *)b)->k, 8);
 }
 
 static uint32_t fbits(float f)
@@ -132,16 +133,18 @@ static size_t split_vertices(const mesh_gltf_in *d, size_t C, ckey *keys, uint32
     int has_tan = d->corner_tangents != NULL;
     for (size_t c = 0; c < C; c++) {
         keys[c].k[0] = d->indices[c];
-        keys[c].k[5] = (uint32_t)c;
+        keys[c].k[5] = d->corner_uv ? fbits(d->corner_uv[2 * c]) : 0u;
+        keys[c].k[6] = d->corner_uv ? fbits(d->corner_uv[2 * c + 1]) : 0u;
+        keys[c].k[7] = (uint32_t)c;
         for (int j = 0; j < 4; j++)
             keys[c].k[1 + j] = has_tan ? fbits(d->corner_tangents[4 * c + (size_t)j]) : 0u;
     }
     qsort(keys, C, sizeof *keys, cmp_ckey);
     size_t NV = 0;
     for (size_t i = 0; i < C; i++) {
-        if (i == 0 || mesh_keys_cmp(keys[i].k, keys[i - 1].k, 5) != 0)
-            src[NV++] = keys[i].k[5];
-        newidx[keys[i].k[5]] = (uint32_t)(NV - 1);
+        if (i == 0 || mesh_keys_cmp(keys[i].k, keys[i - 1].k, 7) != 0)
+            src[NV++] = keys[i].k[7];
+        newidx[keys[i].k[7]] = (uint32_t)(NV - 1);
     }
     return NV;
 }
@@ -232,8 +235,10 @@ static void fill_buffer(const mesh_gltf_in *d, const uint32_t *newidx, const uin
             for (int a = 0; a < 4; a++)
                 put_f32(bin + b->off_t + 16 * i + 4 * (size_t)a, d->corner_tangents[4 * c + (size_t)a]);
         if (b->has_uv) {
-            put_f32(bin + b->off_uv + 8 * i, d->u[v]);
-            put_f32(bin + b->off_uv + 8 * i + 4, 1.0f - d->v[v]);
+            float u = d->corner_uv ? d->corner_uv[2 * c] : d->u[v];
+            float w = d->corner_uv ? d->corner_uv[2 * c + 1] : d->v[v];
+            put_f32(bin + b->off_uv + 8 * i, u);
+            put_f32(bin + b->off_uv + 8 * i + 4, 1.0f - w);
         }
     }
     for (size_t c = 0; c < b->corners; c++)

@@ -35,6 +35,8 @@ typedef struct mesh_gltf_in {
     const float *nx, *ny, *nz;     /* unit normals, or the (0,0,0) sentinel */
     const float *u, *v;            /* NULL: no TEXCOORD_0 */
     const float *corner_tangents;  /* 4 per corner (bgt_mikk_tangents), NULL: no TANGENT */
+    const float *corner_uv;        /* 2 per corner (u, v up), NULL: the vertices' u, v; a
+                                    * vertex is split where its corners' UVs differ */
     const uint32_t *indices;
     const char *generator;         /* asset.generator, plain ASCII without quotes */
     /* Materials: one primitive per material that a triangle uses (triangle
@@ -75,6 +77,8 @@ typedef struct mesh_gltf_scene {
     size_t image_count;
     size_t textures_kept, textures_dropped; /* base colour textures (dropped: not PNG/JPEG,
                                              * or not found) */
+    char **names;                /* material names made here (owned), names_count of them */
+    size_t names_count;
 } mesh_gltf_scene;
 
 /* One glTF material per material of the mesh (or one, when it has none and a
@@ -85,6 +89,15 @@ typedef struct mesh_gltf_scene {
 bg_status mesh_gltf_scene_build(mesh_gltf_scene *sc, const char *mesh_path, const bg_mesh *m,
                                 const mesh_gltf_map *map, const char *out_path, int binary,
                                 bgt_err *e);
+/* A <UDIM> bake: sc (built without a map) gets one material per pair of
+ * (material of triangle t, tile map tri_map[t]) that a triangle uses, a copy
+ * of the source material named "NAME TILE" whose normalTexture is that
+ * tile's map (maps[j], tile number tiles[j]; tri_map[t] = -1: none), and
+ * *tri_material (malloc'd, T entries) says which. BG_OK or
+ * BG_ERR_OUT_OF_MEMORY. */
+bg_status mesh_gltf_scene_tiles(mesh_gltf_scene *sc, const bg_mesh *m, const mesh_gltf_map *maps,
+                                const int *tiles, size_t nmaps, const int *tri_map,
+                                uint32_t **tri_material, bgt_err *e);
 void mesh_gltf_scene_free(mesh_gltf_scene *sc);
 
 /* Write a .glb (binary != 0) or a .gltf with an embedded buffer into an open

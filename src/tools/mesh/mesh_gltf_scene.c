@@ -263,6 +263,13 @@ bg_status mesh_gltf_scene_build(mesh_gltf_scene *sc, const char *mesh_path, cons
         g->name = i < m->material_count ? m->materials[i].name : "bumpgrad";
         g->normal_image = map_image;
         g->base_color_image = -1;
+        if (i < m->material_count && m->materials[i].has_base_color) {
+            g->has_base_color = 1;
+            for (int k = 0; k < 4; k++) { /* glTF: each in [0, 1] */
+                float v = m->materials[i].base_color[k];
+                g->base_color[k] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+            }
+        }
         if (i < m->material_count) {
             int k = add_base_color(sc, mesh_path, m, i, out_path, binary);
             if (k == -2)
@@ -273,8 +280,91 @@ bg_status mesh_gltf_scene_build(mesh_gltf_scene *sc, const char *mesh_path, cons
     return BG_OK;
 }
 
+bg_status mesh_gltf_scene_tiles(mesh_gltf_scene *sc, const bg_mesh *m, const mesh_gltf_map *maps,
+                                const int *tiles, size_t nmaps, const int *tri_map,
+                                uint32_t **tri_material, bgt_err *e)
+{
+    const size_t T = m->triangle_count;
+    *tri_material = NULL;
+    if (!sc->material_count) { /* one plain material to pair with the tiles */
+        if (!(sc->materials = calloc(1, sizeof *sc->materials)))
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF materials");
+        sc->materials[0] = (mesh_gltf_material){.name = "bumpgrad", .base_color_image = -1,
+                                                .normal_image = -1};
+        sc->material_count = 1;
+    }
+    const size_t nbase = sc->material_count, K = nbase * (nmaps + 1);
+    mesh_gltf_image *im = realloc(sc->images, (sc->image_count + nmaps + 1) * sizeof *im);
+    int32_t *pair = malloc(K * sizeof *pair);
+    uint32_t *tm = malloc((T ? T : 1) * sizeof *tm);
+    if (im)
+        sc->images = im;
+    if (!im || !pair || !tm) {
+        free(pair), free(tm);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tiles");
+    }
+    const size_t first_map = sc->image_count;
+    for (size_t j = 0; j < nmaps; j++) {
+        mesh_gltf_image *g = &sc->images[sc->image_count++];
+        memset(g, 0, sizeof *g);
+        g->mime = maps[j].mime;
+        g->len = maps[j].len;
+        g->uri = maps[j].uri ? strdup(maps[j].uri) : NULL;
+        if (maps[j].bytes && (g->bytes = malloc(maps[j].len)) != NULL)
+            memcpy((unsigned char *)g->bytes, maps[j].bytes, maps[j].len);
+        if ((maps[j].uri && !g->uri) || (maps[j].bytes && !g->bytes)) {
+            free(pair), free(tm);
+            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tiles");
+        }
+    }
+    /* the pairs in order of first use */
+    for (size_t k = 0; k < K; k++)
+        pair[k] = -1;
+    size_t npairs = 0;
+    for (size_t t = 0; t < T; t++) {
+        size_t b = m->material && m->material_count > 1 ? m->material[t] : 0;
+        size_t k = (b < nbase ? b : 0) * (nmaps + 1) + (size_t)(tri_map[t] + 1);
+        if (pair[k] < 0)
+            pair[k] = (int32_t)npairs++;
+        tm[t] = (uint32_t)pair[k];
+    }
+    mesh_gltf_material *mt = calloc(npairs ? npairs : 1, sizeof *mt);
+    char **names = calloc(npairs ? npairs : 1, sizeof *names);
+    if (!mt || !names) {
+        free(mt), free(names), free(pair), free(tm);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF materials");
+    }
+    for (size_t k = 0; k < K; k++) {
+        if (pair[k] < 0)
+            continue;
+        size_t b = k / (nmaps + 1);
+        int j = (int)(k % (nmaps + 1)) - 1;
+        mesh_gltf_material *g = &mt[pair[k]];
+        *g = sc->materials[b];
+        g->normal_image = j >= 0 ? (int)(first_map + (size_t)j) : -1;
+        if (j >= 0) {
+            const char *base = sc->materials[b].name ? sc->materials[b].name : "";
+            size_t n = strlen(base) + 8;
+            if ((names[pair[k]] = malloc(n)) != NULL)
+                snprintf(names[pair[k]], n, "%s%s%04d", base, *base ? " " : "", tiles[j]);
+            g->name = names[pair[k]];
+        }
+    }
+    free(pair);
+    free(sc->materials);
+    sc->materials = mt;
+    sc->material_count = npairs;
+    sc->names = names;
+    sc->names_count = npairs;
+    *tri_material = tm;
+    return BG_OK;
+}
+
 void mesh_gltf_scene_free(mesh_gltf_scene *sc)
 {
+    for (size_t i = 0; i < sc->names_count; i++)
+        free(sc->names[i]);
+    free(sc->names);
     for (size_t i = 0; i < sc->image_count; i++) {
         free((char *)sc->images[i].uri);
         free((unsigned char *)sc->images[i].bytes);

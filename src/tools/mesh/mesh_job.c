@@ -332,7 +332,9 @@ typedef struct map_out {
     double t_write;
     int gltf;             /* 0, or 1 (.glb) / 2 (.gltf): keep the map for OUT's material */
     const char *out_path; /* OUT, for the glTF's relative URI */
-    mesh_gltf_map gmap;
+    mesh_gltf_map gmap[MESH_UDIM_MAX_TILES]; /* per tile written, for the glTF */
+    int gtile[MESH_UDIM_MAX_TILES];
+    size_t ng;
     const char *what;     /* for messages: "normal map" when NULL */
 } map_out;
 
@@ -382,9 +384,11 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
                         : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
                                                       : BG_ERR_IO,
                         "%s %s: %s", mo->what ? mo->what : "normal map", final, err);
-    if (mo->gltf && !mo->gmap.ready)
-        return mesh_gltf_map_image(&mo->gmap, img, to_stdout ? NULL : target, final, mo->out_path,
-                                   mo->gltf == 1, e);
+    if (mo->gltf && mo->ng < MESH_UDIM_MAX_TILES) {
+        mo->gtile[mo->ng] = udim;
+        return mesh_gltf_map_image(&mo->gmap[mo->ng++], img, to_stdout ? NULL : target, final,
+                                   mo->out_path, mo->gltf == 1, e);
+    }
     return BG_OK;
 }
 
@@ -420,7 +424,9 @@ static void map_free(map_out *mo)
         free(mo->final[i]);
     }
     mo->n = 0;
-    mesh_gltf_map_free(&mo->gmap);
+    for (size_t i = 0; i < mo->ng; i++)
+        mesh_gltf_map_free(&mo->gmap[i]);
+    mo->ng = 0;
 }
 
 /* Sum the chunk statistics in chunk order into *r. */
@@ -489,11 +495,27 @@ static bg_status load_mesh(const bgt_mesh_opts *o, bg_mesh *m, bgt_err *e)
     return BG_OK;
 }
 
-/* The triangles the perturbation cannot use and the non-finite positions. */
+/* The triangles the perturbation cannot use, the non-finite positions and
+ * the mean edge length of the usable triangles. */
 static void count_defects(const bg_mesh *m, bgt_mesh_result *r)
 {
-    for (size_t t = 0; t < m->triangle_count; t++)
-        r->unusable_triangles += (size_t)!mesh_triangle_usable(m, t);
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        if (!mesh_triangle_usable(m, t)) {
+            r->unusable_triangles++;
+            continue;
+        }
+        const uint32_t *ix = m->indices + 3 * t;
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = ix[k], b = ix[(k + 1) % 3];
+            double dx = (double)m->px[a] - m->px[b], dy = (double)m->py[a] - m->py[b];
+            double dz = (double)m->pz[a] - m->pz[b];
+            sum += sqrt(dx * dx + dy * dy + dz * dz);
+            n++;
+        }
+    }
+    r->mean_edge = n ? sum / (double)n : 0.0;
     for (size_t i = 0; i < m->vertex_count; i++)
         r->nonfinite_positions +=
             (size_t)!(isfinite(m->px[i]) && isfinite(m->py[i]) && isfinite(m->pz[i]));
@@ -529,8 +551,6 @@ static bg_status bake_map(const bgt_mesh_opts *o, const bg_mesh *m, const vertex
         else if (o->bake.green_down)
             r->gltf_map_note = "--normal-map-y -y: glTF normal textures are green up (+y), so no "
                                "material uses the map";
-        else if (mo->udim)
-            r->gltf_map_note = "a <UDIM> map: the glTF's materials do not use the tiles yet";
         else
             mo->gltf = f == MESH_OUT_GLB ? 1 : 2;
     }
@@ -548,6 +568,7 @@ typedef struct mesh_out {
     FILE *devout;
     char *obj_tmp;
     float *gltf_tan;
+    float *gltf_uv; /* per corner, shifted into the tile (a <UDIM> bake) */
 } mesh_out;
 
 static void out_free(mesh_out *w)
@@ -559,6 +580,7 @@ static void out_free(mesh_out *w)
         free(w->obj_tmp);
     }
     free(w->gltf_tan);
+    free(w->gltf_uv);
     if (w->of.fp)
         bgt_safe_abort(&w->of);
     memset(w, 0, sizeof *w);
@@ -589,6 +611,47 @@ static bg_status out_open(mesh_out *w, const bg_mesh *m, const vertex_job *job, 
         return BG_OK;
     }
     return bgt_safe_open(&w->of, w->path, e);
+}
+
+/* A <UDIM> bake in the glTF: each triangle belongs to the tile of its UV
+ * centroid; its corners' UVs are shifted by the tile's origin into [0, 1)
+ * (a triangle across a tile border keeps its corners outside it), and its
+ * material is the pair (its material, that tile's map). */
+static bg_status gltf_tiles(const bg_mesh *m, const map_out *mo, mesh_gltf_scene *sc,
+                            uint32_t **tri_mat, float **corner_uv, bgt_err *e)
+{
+    size_t T = m->triangle_count;
+    int *tri_map = malloc((T ? T : 1) * sizeof *tri_map);
+    float *uv = malloc((T ? 3 * T : 1) * 2 * sizeof *uv);
+    if (!tri_map || !uv) {
+        free(tri_map), free(uv);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tiles");
+    }
+    for (size_t t = 0; t < T; t++) {
+        const uint32_t *ix = m->indices + 3 * t;
+        double uc = ((double)m->u[ix[0]] + m->u[ix[1]] + m->u[ix[2]]) / 3.0;
+        double vc = ((double)m->v[ix[0]] + m->v[ix[1]] + m->v[ix[2]]) / 3.0;
+        double a = floor(uc), b = floor(vc);
+        int tile = a >= 0 && a < 10 && b >= 0 && b < MESH_UDIM_V_TILES
+                       ? 1001 + (int)a + 10 * (int)b
+                       : 0;
+        tri_map[t] = -1;
+        for (size_t j = 0; j < mo->ng; j++)
+            if (mo->gtile[j] == tile)
+                tri_map[t] = (int)j;
+        for (int k = 0; k < 3; k++) {
+            uv[6 * t + 2 * (size_t)k] = tile ? (float)(m->u[ix[k]] - a) : m->u[ix[k]];
+            uv[6 * t + 2 * (size_t)k + 1] = tile ? (float)(m->v[ix[k]] - b) : m->v[ix[k]];
+        }
+    }
+    bg_status st = mesh_gltf_scene_tiles(sc, m, mo->gmap, mo->gtile, mo->ng, tri_map, tri_mat, e);
+    free(tri_map);
+    if (st != BG_OK) {
+        free(uv);
+        return st;
+    }
+    *corner_uv = uv;
+    return BG_OK;
 }
 
 /* glTF. With a baked map (and not --gltf-normals bumped): NORMAL holds the
@@ -623,13 +686,18 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
         }
     }
     const int binary = w->fmt == MESH_OUT_GLB;
+    const int tiled = mo->udim && mo->ng > 0;
     mesh_gltf_scene sc;
-    if ((st = mesh_gltf_scene_build(&sc, o->input, m, mo->gmap.ready ? &mo->gmap : NULL, w->path,
-                                    binary, e)) != BG_OK) {
+    uint32_t *tri_mat = NULL;
+    if ((st = mesh_gltf_scene_build(&sc, o->input, m, !tiled && mo->ng ? &mo->gmap[0] : NULL,
+                                    w->path, binary, e)) == BG_OK &&
+        tiled)
+        st = gltf_tiles(m, mo, &sc, &tri_mat, &w->gltf_uv, e);
+    if (st != BG_OK) {
         mesh_gltf_scene_free(&sc);
         return st;
     }
-    r->gltf_map = mo->gmap.ready ? 1 + mo->gmap.converted : 0;
+    r->gltf_map = mo->ng ? 1 + mo->gmap[0].converted : 0;
     r->gltf_materials = sc.material_count;
     r->gltf_textures = sc.textures_kept;
     r->gltf_textures_dropped = sc.textures_dropped;
@@ -640,11 +708,13 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
                       .nx = nx, .ny = ny, .nz = nz,
                       .u = m->u, .v = m->v, .corner_tangents = w->gltf_tan,
                       .indices = m->indices, .generator = gen,
-                      .tri_material = m->material_count > 1 ? m->material : NULL,
+                      .tri_material = tri_mat ? tri_mat : m->material_count > 1 ? m->material : NULL,
+                      .corner_uv = w->gltf_uv,
                       .material_count = sc.material_count, .materials = sc.materials,
                       .image_count = sc.image_count, .images = sc.images};
     st = mesh_gltf_write(w->devout ? w->devout : w->of.fp, binary, &g, e);
     mesh_gltf_scene_free(&sc);
+    free(tri_mat);
     return st;
 }
 
