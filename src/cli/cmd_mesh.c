@@ -475,8 +475,10 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                       "(%.4g on the surface): the map cannot hold it%s; raise --size, or lower "
                       "--octaves or --frequency",
                  r.finest_feature, r.bake.texel_size * r.unit,
-                 bake.filter == MESH_FILTER_FOOTPRINT ? " (the footprint filter fades it out)"
-                                                      : " (it aliases: --filter none)");
+                 a.from ? " (it aliases: a high-poly bake does not filter the detail; raise "
+                          "--samples)"
+                 : bake.filter == MESH_FILTER_FOOTPRINT ? " (the footprint filter fades it out)"
+                                                        : " (it aliases: --filter none)");
     if (shows_height && r.coarsest_feature > 0 && r.model_radius > 0 && r.coarsest_feature > 4.0 * r.model_radius)
         cli_warn(cmd, "the bump is coarser than the model: its largest feature (%.4g file units) "
                       "exceeds the model's size (diameter %.4g); raise --frequency",
