@@ -17,7 +17,6 @@
 
 #ifdef BG_HAVE_EMBREE
 #include <embree3/rtcore.h>
-#endif
 
 static double now_seconds(void)
 {
@@ -50,6 +49,8 @@ static void to_frame(bg_mesh *m, const double c[3], double r)
         m->pz[i] = mesh_model_coord(m->pz[i], c[2], r);
     }
 }
+
+#endif
 
 void mesh_hi_close(mesh_hi *hi)
 {
