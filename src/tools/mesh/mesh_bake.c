@@ -79,20 +79,25 @@ static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, fl
  * (bg_resolve_normal): what a renderer gets layering the map and the height
  * on LOW. A miss keeps LOW's own normal, without detail. The unit results go
  * to g; hm is scratch (3 ns floats). */
-static void shade_high(const bake_ctx *c, size_t ns, float *px, float *py, float *pz,
+static void shade_high(bake_ctx *c, size_t ns, float *px, float *py, float *pz,
                        const float *qx, const float *qy, const float *qz, const float *cg,
                        float *dist, float *hit, float *hm, float *gx, float *gy, float *gz)
 {
-    for (size_t s = 0; s < ns; s++) {
-        mesh_hi_hit hh;
-        float p[3] = {px[s], py[s], pz[s]}, q[3] = {qx[s], qy[s], qz[s]};
-        hit[s] = (float)mesh_hi_trace(c->hi, p, q, cg ? cg + 3 * s : NULL, &hh);
-        dist[s] = 0.0f;
-        if (hit[s] != 0.0f) {
-            px[s] = hh.p[0], py[s] = hh.p[1], pz[s] = hh.p[2];
-            memcpy(hm + 3 * s, hh.n, sizeof hh.n);
-            dist[s] = hh.dist;
+    mesh_hi_hit *hh = malloc((ns ? ns : 1) * sizeof *hh);
+    if (!hh || !mesh_hi_trace_n(c->hi, ns, px, py, pz, qx, qy, qz, cg, hh, hit)) {
+        free(hh);
+        atomic_store(&c->oom, 1);
+        memset(hit, 0, ns * sizeof *hit);
+    } else {
+        for (size_t s = 0; s < ns; s++) {
+            dist[s] = 0.0f;
+            if (hit[s] != 0.0f) {
+                px[s] = hh[s].p[0], py[s] = hh[s].p[1], pz[s] = hh[s].p[2];
+                memcpy(hm + 3 * s, hh[s].n, sizeof hh[s].n);
+                dist[s] = hh[s].dist;
+            }
         }
+        free(hh);
     }
     if (c->hi->detail)
         bgt_height_gradient(c->h, px, py, pz, ns, NULL, gx, gy, gz);

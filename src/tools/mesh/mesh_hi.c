@@ -215,6 +215,10 @@ fail:
 }
 
 #ifdef BG_HAVE_EMBREE
+/* HIGH's point and normal at a hit of primitive prim, barycentrics (b1, b2) */
+static void hit_at(const mesh_hi *hi, unsigned prim, float b1, float b2, double dist,
+                   mesh_hi_hit *out);
+
 /* The nearest hit of one ray within (0, tfar]: its t, or -1. */
 static float cast(const mesh_hi *hi, const float o[3], const float d[3], float tfar,
                   unsigned *prim, float *b1, float *b2)
@@ -284,6 +288,104 @@ int mesh_hi_trace(const mesh_hi *hi, const float p[3], const float n[3], const f
             dist = (double)tf;
         }
     }
+    hit_at(hi, prim, b1, b2, dist, out);
+    return 1;
+#endif
+}
+
+
+#ifdef BG_HAVE_EMBREE
+static void ray_init(struct RTCRayHit *rh, const float o[3], const float d[3], float tfar)
+{
+    rh->ray.org_x = o[0], rh->ray.org_y = o[1], rh->ray.org_z = o[2];
+    rh->ray.dir_x = d[0], rh->ray.dir_y = d[1], rh->ray.dir_z = d[2];
+    rh->ray.tnear = 0.0f;
+    rh->ray.tfar = tfar;
+    rh->ray.time = 0.0f;
+    rh->ray.mask = 0xFFFFFFFFu;
+    rh->ray.id = 0;
+    rh->ray.flags = 0;
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+#endif
+
+int mesh_hi_trace_n(const mesh_hi *hi, size_t n, const float *px, const float *py,
+                    const float *pz, const float *qx, const float *qy, const float *qz,
+                    const float *cage, mesh_hi_hit *out, float *hit)
+{
+#ifndef BG_HAVE_EMBREE
+    (void)hi, (void)n, (void)px, (void)py, (void)pz, (void)qx, (void)qy, (void)qz, (void)cage;
+    (void)out, (void)hit;
+    return 0;
+#else
+    struct RTCRayHit *rh = malloc((n ? n : 1) * sizeof *rh);
+    float *len = malloc((n ? n : 1) * sizeof *len);
+    if (!rh || !len) {
+        free(rh);
+        free(len);
+        return 0;
+    }
+    /* front rays (or the cage's), as one coherent stream */
+    for (size_t s = 0; s < n; s++) {
+        double d[3];
+        if (cage)
+            d[0] = (double)px[s] - cage[3 * s], d[1] = (double)py[s] - cage[3 * s + 1],
+            d[2] = (double)pz[s] - cage[3 * s + 2];
+        else
+            d[0] = qx[s], d[1] = qy[s], d[2] = qz[s];
+        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        int ok = l > 0.0 && isfinite(l);
+        float df[3] = {ok ? (float)(d[0] / l) : 0.0f, ok ? (float)(d[1] / l) : 0.0f,
+                       ok ? (float)(d[2] / l) : 1.0f};
+        float o[3] = {px[s], py[s], pz[s]};
+        len[s] = (float)l;
+        if (cage)
+            ray_init(&rh[s], cage + 3 * s, df, ok ? (float)(2.0 * l) : -1.0f);
+        else
+            ray_init(&rh[s], o, df, ok ? hi->distance : -1.0f);
+    }
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect1M((RTCScene)hi->scene, &ctx, rh, (unsigned)n, sizeof *rh);
+    for (size_t s = 0; s < n; s++) {
+        hit[s] = 0.0f;
+        if (rh[s].hit.geomID == RTC_INVALID_GEOMETRY_ID)
+            continue;
+        hit[s] = 1.0f;
+        double dist = cage ? (double)len[s] - (double)rh[s].ray.tfar : (double)rh[s].ray.tfar;
+        hit_at(hi, rh[s].hit.primID, rh[s].hit.u, rh[s].hit.v, dist, &out[s]);
+    }
+    if (!cage) {
+        /* behind, only a hit strictly nearer than the one in front can win */
+        for (size_t s = 0; s < n; s++) {
+            float o[3] = {px[s], py[s], pz[s]};
+            float df[3] = {-rh[s].ray.dir_x, -rh[s].ray.dir_y, -rh[s].ray.dir_z};
+            float tf = hit[s] != 0.0f ? out[s].dist : hi->distance;
+            int ok = len[s] > 0.0f && isfinite(len[s]) && tf > 0.0f;
+            ray_init(&rh[s], o, df, ok ? (hit[s] != 0.0f ? nextafterf(tf, 0.0f) : tf) : -1.0f);
+        }
+        rtcIntersect1M((RTCScene)hi->scene, &ctx, rh, (unsigned)n, sizeof *rh);
+        for (size_t s = 0; s < n; s++) {
+            if (rh[s].hit.geomID == RTC_INVALID_GEOMETRY_ID)
+                continue;
+            hit[s] = 1.0f;
+            hit_at(hi, rh[s].hit.primID, rh[s].hit.u, rh[s].hit.v, -(double)rh[s].ray.tfar,
+                   &out[s]);
+        }
+    }
+    free(rh);
+    free(len);
+    return 1;
+#endif
+}
+
+#ifdef BG_HAVE_EMBREE
+static void hit_at(const mesh_hi *hi, unsigned prim, float b1, float b2, double dist,
+                   mesh_hi_hit *out)
+{
     const bg_mesh *h = &hi->high;
     const uint32_t *ix = h->indices + 3 * (size_t)hi->prim[prim];
     float w0 = 1.0f - b1 - b2;
@@ -304,6 +406,5 @@ int mesh_hi_trace(const mesh_hi *hi, const float p[3], const float n[3], const f
         out->n[2] = (float)(e1[0] * e2[1] - e1[1] * e2[0]);
     }
     out->dist = (float)dist;
-    return 1;
-#endif
 }
+#endif

@@ -70,6 +70,11 @@ void mesh_hi_close(mesh_hi *hi);
  * 0 on a miss. Thread-safe. */
 int mesh_hi_trace(const mesh_hi *hi, const float p[3], const float n[3], const float *cage,
                   mesh_hi_hit *out);
+/* The same for n samples at once (two coherent Embree streams): hit[s] 1 or 0.
+ * 0 when out of memory, else 1. */
+int mesh_hi_trace_n(const mesh_hi *hi, size_t n, const float *px, const float *py,
+                    const float *pz, const float *qx, const float *qy, const float *qz,
+                    const float *cage, mesh_hi_hit *out, float *hit);
 
 /* Rasterize the mesh in UV space, one tile after the other (tile (a, b)
  * holds u in [a, a + 1], v in [b, b + 1]; the tangent frames are computed once
