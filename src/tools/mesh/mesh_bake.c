@@ -70,7 +70,7 @@ static void flat_vector(const bake_ctx *c, float *out)
  * triangle they extrapolate its plane). */
 static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, float *w1, float *w2);
 
-/* --from: the samples' rays (mesh_hi_trace from LOW's point p along LOW's
+/* --from: the samples' rays (mesh_hi_trace_n from LOW's point p along LOW's
  * normal q, or from the cage's point cg). A hit gives HIGH's point and its
  * interpolated normal m there; the result is the unit m. With detail, the
  * framework of Mikkelsen 2020 layers two influences on LOW's normal n: the

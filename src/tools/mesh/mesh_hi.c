@@ -3,8 +3,8 @@
  * "High-poly to low-poly"): HIGH (any mesh assimp reads, UVs not needed,
  * several meshes flattened into one) in LOW's height frame, its unit vertex
  * normals (the file's, else angle-weighted), one Embree 3 scene of its usable
- * triangles, and an optional cage with LOW's triangles. mesh_hi_trace casts
- * the rays of one sample of the bake (mesh_bake.c). Embree is an optional
+ * triangles, and an optional cage with LOW's triangles. mesh_hi_trace_n casts
+ * the rays of a chunk of samples of the bake (mesh_bake.c). Embree is an optional
  * dependency of the tools: without it mesh_hi_open fails with a clear
  * message. */
 #define _POSIX_C_SOURCE 200809L
@@ -219,82 +219,6 @@ fail:
 static void hit_at(const mesh_hi *hi, unsigned prim, float b1, float b2, double dist,
                    mesh_hi_hit *out);
 
-/* The nearest hit of one ray within (0, tfar]: its t, or -1. */
-static float cast(const mesh_hi *hi, const float o[3], const float d[3], float tfar,
-                  unsigned *prim, float *b1, float *b2)
-{
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    struct RTCRayHit rh;
-    rh.ray.org_x = o[0], rh.ray.org_y = o[1], rh.ray.org_z = o[2];
-    rh.ray.dir_x = d[0], rh.ray.dir_y = d[1], rh.ray.dir_z = d[2];
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = tfar;
-    rh.ray.time = 0.0f;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1((RTCScene)hi->scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
-        return -1.0f;
-    *prim = rh.hit.primID;
-    *b1 = rh.hit.u, *b2 = rh.hit.v;
-    return rh.ray.tfar;
-}
-#endif
-
-int mesh_hi_trace(const mesh_hi *hi, const float p[3], const float n[3], const float *cage,
-                  mesh_hi_hit *out)
-{
-#ifndef BG_HAVE_EMBREE
-    (void)hi, (void)p, (void)n, (void)cage, (void)out;
-    return 0;
-#else
-    unsigned prim = 0;
-    float b1 = 0.0f, b2 = 0.0f, t;
-    double dist;
-    if (cage) {
-        /* from the cage's point toward LOW's, as far past it as the cage is away */
-        double d[3] = {(double)p[0] - cage[0], (double)p[1] - cage[1], (double)p[2] - cage[2]};
-        double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (!(len > 0.0) || !isfinite(len))
-            return 0;
-        float df[3] = {(float)(d[0] / len), (float)(d[1] / len), (float)(d[2] / len)};
-        t = cast(hi, cage, df, (float)(2.0 * len), &prim, &b1, &b2);
-        if (t < 0.0f)
-            return 0;
-        dist = len - (double)t;
-    } else {
-        double l = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
-        if (!(l > 0.0) || !isfinite(l))
-            return 0;
-        float df[3] = {(float)(n[0] / l), (float)(n[1] / l), (float)(n[2] / l)};
-        float db[3] = {-df[0], -df[1], -df[2]};
-        unsigned pb = 0;
-        float c1 = 0.0f, c2 = 0.0f;
-        float tf = cast(hi, p, df, hi->distance, &prim, &b1, &b2);
-        /* behind, only a hit strictly nearer than the one in front can win */
-        float tb = tf == 0.0f ? -1.0f
-                              : cast(hi, p, db, tf > 0.0f ? nextafterf(tf, 0.0f) : hi->distance,
-                                     &pb, &c1, &c2);
-        if (tf < 0.0f && tb < 0.0f)
-            return 0;
-        if (tf < 0.0f || (tb >= 0.0f && tb < tf)) { /* the nearer one; a tie goes outward */
-            prim = pb, b1 = c1, b2 = c2;
-            dist = -(double)tb;
-        } else {
-            dist = (double)tf;
-        }
-    }
-    hit_at(hi, prim, b1, b2, dist, out);
-    return 1;
-#endif
-}
-
-
-#ifdef BG_HAVE_EMBREE
 static void ray_init(struct RTCRayHit *rh, const float o[3], const float d[3], float tfar)
 {
     rh->ray.org_x = o[0], rh->ray.org_y = o[1], rh->ray.org_z = o[2];

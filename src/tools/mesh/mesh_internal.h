@@ -64,14 +64,12 @@ bg_status mesh_hi_open(mesh_hi *hi, const char *high_path, const char *cage_path
                        const bg_mesh *low, unsigned join, const double centre[3], double radius,
                        double distance, int threads, bgt_err *e);
 void mesh_hi_close(mesh_hi *hi);
-/* The rays of one sample: from p along the unit n both ways up to the
- * distance (the nearer hit), or with `cage` (the cage's matching point) from
- * it toward p and as far again past p (the first hit). 1 and *out on a hit,
- * 0 on a miss. Thread-safe. */
-int mesh_hi_trace(const mesh_hi *hi, const float p[3], const float n[3], const float *cage,
-                  mesh_hi_hit *out);
-/* The same for n samples at once (two coherent Embree streams): hit[s] 1 or 0.
- * 0 when out of memory, else 1. */
+/* The rays of n samples (two coherent Embree streams): from (px, py, pz)[s]
+ * along the normalized (qx, qy, qz)[s] both ways up to the distance (the
+ * nearer hit; a tie goes to the front), or with `cage` (3 floats per sample:
+ * the cage's matching point) from it toward p and as far again past p (the
+ * first hit). hit[s] = 1 and out[s] on a hit, 0 on a miss. Returns 0 when out
+ * of memory, else 1. Thread-safe. */
 int mesh_hi_trace_n(const mesh_hi *hi, size_t n, const float *px, const float *py,
                     const float *pz, const float *qx, const float *qy, const float *qz,
                     const float *cage, mesh_hi_hit *out, float *hit);
