@@ -245,6 +245,22 @@ def main():
           and os.path.exists(os.path.join(tmp, "t.1001.exr")) and os.path.exists(out),
           "tangent-space UDIM bake with --samples 4 writes the tiles and the glb")
 
+    # 7b. --normal-map-y -y flips green, --bake-depth 16 is 16 bits, --threads
+    # does not change a texel
+    maps = {}
+    for tag, extra in [("y", []), ("dx", ["--normal-map-y", "-y"]), ("t1", ["--threads", "1"])]:
+        path = os.path.join(tmp, "g_%s.png" % tag)
+        p = run([low, "--from", high, "--bake-normal-map", path, "--size", "64", "--bake-depth",
+                 "16"] + extra)
+        maps[tag] = read_image(tmp, path)
+    gflip = np.abs(maps["dx"][..., 1] - (1.0 - maps["y"][..., 1])).max()
+    rb = np.abs(maps["dx"][..., [0, 2]] - maps["y"][..., [0, 2]]).max()
+    steps = len(np.unique(np.round(maps["y"][..., 0] * 65535)))
+    check(gflip <= 1.01 / 65535 and rb == 0 and steps > 256,
+          "--normal-map-y -y flips green only (max %.2g), 16-bit output (%d red levels)"
+          % (gflip, steps))
+    check(np.array_equal(maps["t1"], maps["y"]), "--threads 1 and the default bake the same map")
+
     # 8. bad input: clear errors, exit 2, nothing written
     pn = os.path.join(tmp, "nouv.obj")
     mk.write_obj(pn, pos, nrm, None, faces)
