@@ -743,10 +743,12 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H) +
                                        (double)(o->threads > 0 ? o->threads : 1) * chunk * 40.0 +
                                        /* --from: aux (8 bytes) and the height and miss
-                                        * tiles (4 + 4) per texel; 8 more floats a sample */
+                                        * tiles (4 + 4) per texel; a sample's 8 more floats
+                                        * and its two rays (an RTCRayHit of 80 bytes, a
+                                        * mesh_hi_hit of 28, its length) */
                                        (o->hi ? 16.0 * (double)npix +
                                                     (double)(o->threads > 0 ? o->threads : 1) *
-                                                        chunk * 32.0
+                                                        chunk * 144.0
                                               : 0.0),
                                    "the bake buffers", e);
     if (rc != BG_OK)
