@@ -44,6 +44,17 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
         cli_json_int(&j, "uv_islands", (long long)r->bake.islands);
         cli_json_int(&j, "overlap_texels", (long long)r->bake.overlap_texels);
         cli_json_ints(&j, "tiles", r->bake.tile_udim, (int)r->bake.tiles);
+        if (o->from) {
+            cli_json_str(&j, "from", o->from);
+            cli_json_int(&j, "high_triangles", (long long)r->high_triangle_count);
+            cli_json_num(&j, "ray_distance", r->ray_distance);
+            cli_json_int(&j, "ray_samples", (long long)r->bake.ray_samples);
+            cli_json_int(&j, "ray_misses", (long long)r->bake.ray_misses);
+            cli_json_int(&j, "miss_texels", (long long)r->bake.miss_texels);
+            cli_json_int(&j, "partial_miss_texels", (long long)r->bake.partial_miss_texels);
+            cli_json_bool(&j, "detail", o->detail);
+            cli_json_num(&j, "bvh_build_s", r->t_bvh);
+        }
         cli_json_str(&j, "filter", o->bake.filter == MESH_FILTER_NONE ? "none" : "footprint");
         cli_json_int(&j, "samples", o->bake.samples > 0 ? o->bake.samples : MESH_DEFAULT_SAMPLES);
         cli_json_int(&j, "padding", o->bake.padding);
@@ -114,6 +125,17 @@ static void print_text(FILE *fp, const bgt_mesh_opts *o, int units, const bgt_me
             r->inward_other, 100.0 * (double)r->inward_other / valid);
     fprintf(fp, "surfgrad vs additive: mean %.4f deg, max %.4f deg\n", r->mean_compare,
             r->max_compare);
+    if (o->from)
+        fprintf(fp, "high-poly: %s: %zu vertices, %zu triangles (%zu usable, %zu scene "
+                    "meshes), normals %s; Embree BVH %.3f s; rays %s%.4g file units; "
+                    "%zu samples, %zu missed; %zu texels all missed (kept the low-poly "
+                    "normal), %zu partly; detail: %s\n",
+                o->from, r->high_vertex_count, r->high_triangle_count, r->high_usable,
+                r->high_mesh_count, r->high_file_normals ? "from the file" : "angle-weighted",
+                r->t_bvh, o->cage ? "from the cage toward IN and as far past it; unused: "
+                                  : "both ways up to ",
+                r->ray_distance, r->bake.ray_samples, r->bake.ray_misses, r->bake.miss_texels,
+                r->bake.partial_miss_texels, o->detail ? "the height at the hit points" : "none");
     if (bake_path)
         fprintf(fp, "bake: %s %dx%d %s space, %zu texels covered, %zu padded, %zu "
                     "triangles skipped (degenerate or zero UV area)\n",
@@ -170,6 +192,8 @@ typedef struct mesh_args {
     int method, compare, ascii, recompute, json, threads, join, bake_depth, gltf_normals, units;
     mesh_bake_opts bake;
     bgt_height h;
+    const char *from, *cage, *height_map, *miss_map; /* high-poly to low-poly */
+    double ray_distance;
 } mesh_args;
 
 _Static_assert(sizeof(mesh_bake_space) == sizeof(int), "mesh_bake_space is stored as int");
@@ -291,9 +315,38 @@ static const cli_opt mesh_bake_table[] = {
      .choices = y_choices},
     CLI_OPT_END,
 };
+static const cli_opt mesh_high_table[] = {
+    {.name = "from", .kind = CLI_KIND_STRING, .offset = A(from), .metavar = "HIGH",
+     .help = "bake the normals of the high-poly mesh HIGH (any format assimp reads; UVs not "
+             "needed; several meshes are one) onto IN's UVs: from each sample's point on IN "
+             "rays along IN's normal, both ways, up to --ray-distance; the nearest hit's "
+             "interpolated normal is encoded in IN's frame (a sample that misses keeps IN's "
+             "normal). A height option that differs from its default adds that height's "
+             "detail at the hit point; without one nothing is added",
+     .flags = CLI_FILE},
+    {.name = "cage", .kind = CLI_KIND_STRING, .offset = A(cage), .metavar = "CAGE",
+     .help = "cast from the matching point of CAGE (IN's triangles, in IN's order, with the "
+             "vertices moved outward) toward IN, as far again past it, instead of both ways",
+     .flags = CLI_FILE},
+    {.name = "ray-distance", .kind = CLI_KIND_DOUBLE, .offset = A(ray_distance), .metavar = "D",
+     .help = "how far the rays reach, front and back, in the units of --units (default 0.1: a "
+             "tenth of IN's bounding-sphere radius)",
+     .flags = CLI_GT_LO | CLI_NO_DEFAULT, .lo = 0},
+    {.name = "bake-height-map", .kind = CLI_KIND_STRING, .offset = A(height_map),
+     .metavar = "FILE", .help = "also write the signed distance from IN to HIGH along the rays "
+                                "(file units, + outside), a float .exr or .tif (mean over the "
+                                "hits of a texel, 0 where all missed)",
+     .flags = CLI_FILE},
+    {.name = "miss-map", .kind = CLI_KIND_STRING, .offset = A(miss_map), .metavar = "FILE",
+     .help = "also write the fraction of each texel's samples whose rays missed HIGH (1: the "
+             "texel kept IN's normal)",
+     .flags = CLI_FILE},
+    CLI_OPT_END,
+};
 static const cli_opt mesh_table[] = {
     CLI_OPT_INCLUDE(0, mesh_opts_table, NULL),
     CLI_OPT_INCLUDE(0, mesh_bake_table, "Normal-map bake (needs UV set 0):"),
+    CLI_OPT_INCLUDE(0, mesh_high_table, "High-poly to low-poly (IN is the low-poly mesh):"),
     CLI_OPT_INCLUDE(A(h), cli_height_opts, cli_height_heading),
     CLI_OPT_END,
 };
@@ -371,7 +424,15 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                           .recompute_normals = a.recompute, .join = (unsigned)a.join,
                           .threads = a.threads, .bake = bake, .bake_depth = a.bake_depth,
                           .bake_format = a.format, .gltf_normals = a.gltf_normals,
-                          .units = a.units};
+                          .units = a.units, .from = a.from, .cage = a.cage,
+                          .ray_distance = a.ray_distance, .height_map = a.height_map,
+                          .miss_map = a.miss_map};
+    {
+        /* --from adds the height's detail only when a height option changed it */
+        bgt_height d;
+        bgt_height_init(&d);
+        opts.detail = a.h.grid_path != NULL || memcmp(&a.h.h, &d.h, sizeof d.h) != 0;
+    }
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     opts.progress = &sink;
@@ -395,17 +456,24 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                  r.bake.outside_tile_count == 1 ? "" : "s", n ? tiles : "outside 1001..1999",
                  r.bake.outside_tile_count > n ? ", ..." : "");
     }
-    if (bake_path && r.finest_feature > 0 && r.finest_feature < r.bake.texel_size * r.unit)
+    int shows_height = !a.from || opts.detail;
+    if (shows_height && bake_path && r.finest_feature > 0 && r.finest_feature < r.bake.texel_size * r.unit)
         cli_warn(cmd, "the finest bump feature (%.4g file units) is smaller than a texel "
                       "(%.4g on the surface): the map cannot hold it%s; raise --size, or lower "
                       "--octaves or --frequency",
                  r.finest_feature, r.bake.texel_size * r.unit,
-                 bake.filter == MESH_FILTER_FOOTPRINT ? " (the footprint filter fades it out)"
-                                                      : " (it aliases: --filter none)");
-    if (r.coarsest_feature > 0 && r.model_radius > 0 && r.coarsest_feature > 4.0 * r.model_radius)
+                 a.from ? " (it aliases: a high-poly bake does not filter the detail; raise "
+                          "--samples)"
+                 : bake.filter == MESH_FILTER_FOOTPRINT ? " (the footprint filter fades it out)"
+                                                        : " (it aliases: --filter none)");
+    if (shows_height && r.coarsest_feature > 0 && r.model_radius > 0 && r.coarsest_feature > 4.0 * r.model_radius)
         cli_warn(cmd, "the bump is coarser than the model: its largest feature (%.4g file units) "
                       "exceeds the model's size (diameter %.4g); raise --frequency",
                  r.coarsest_feature, 2.0 * r.model_radius);
+    if (a.from && r.bake.miss_texels)
+        cli_warn(cmd, "%zu of %zu texels: every ray missed %s within %.4g file units; they keep "
+                      "the low-poly normal (raise --ray-distance, or give a --cage)",
+                 r.bake.miss_texels, r.bake.covered, a.from, r.ray_distance);
     if (a.json) {
         print_json(&opts, &r);
         return CLI_OK;

@@ -8,6 +8,9 @@
  *       IN: N records of 6 float32 (px py pz nx ny nz), native byte order.
  *       OUT: N records of 4 float32 (h, n'x, n'y, n'z) from bg_height_eval and
  *       bg_perturb(M, n, grad h).
+ *   mesh_oracle gradient IN.f32 OUT.f32 N [height options]
+ *       IN: N records of 3 float32 (px py pz). OUT: N records of 4 float32
+ *       (h, gx, gy, gz) from bg_height_eval.
  *   mesh_oracle image FILE OUT.f32
  *       OUT: int32 width, height, channels, then the float pixels as
  *       bg_image_read returns them (row 0 at the top).
@@ -96,6 +99,32 @@ static int do_perturb(int argc, char **argv)
     return fclose(out) != 0 ? fail("write error", argv[3]) : 0;
 }
 
+static int do_gradient(int argc, char **argv)
+{
+    if (argc < 5)
+        return fail("usage: gradient IN OUT N [options]", NULL);
+    bg_height h;
+    bg_perturb_method m;
+    if (parse_height(argc, argv, 5, &h, &m))
+        return 1;
+    size_t n = (size_t)strtoull(argv[4], NULL, 10);
+    FILE *in = fopen(argv[2], "rb"), *out = fopen(argv[3], "wb");
+    if (!in || !out)
+        return fail("cannot open", !in ? argv[2] : argv[3]);
+    for (size_t i = 0; i < n; i++) {
+        float r[3], w[4];
+        if (fread(r, sizeof r, 1, in) != 1)
+            return fail("short input", argv[2]);
+        bg_vec3 g;
+        w[0] = bg_height_eval(&h, (bg_vec3){r[0], r[1], r[2]}, &g);
+        w[1] = g.x, w[2] = g.y, w[3] = g.z;
+        if (fwrite(w, sizeof w, 1, out) != 1)
+            return fail("write error", argv[3]);
+    }
+    fclose(in);
+    return fclose(out) != 0 ? fail("write error", argv[3]) : 0;
+}
+
 static int do_image(int argc, char **argv)
 {
     if (argc != 4)
@@ -119,7 +148,9 @@ int main(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "perturb") == 0)
         return do_perturb(argc, argv);
+    if (argc >= 2 && strcmp(argv[1], "gradient") == 0)
+        return do_gradient(argc, argv);
     if (argc >= 2 && strcmp(argv[1], "image") == 0)
         return do_image(argc, argv);
-    return fail("usage: mesh_oracle perturb|image ...", NULL);
+    return fail("usage: mesh_oracle perturb|gradient|image ...", NULL);
 }

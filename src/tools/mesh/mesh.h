@@ -54,6 +54,7 @@ typedef struct mesh_bake_opts {
     mesh_bake_filter filter;
     int samples;         /* N: N x N stratified samples per texel, averaged (1: the texel
                           * centre; 0: MESH_DEFAULT_SAMPLES), at most MESH_MAX_SAMPLES */
+    const struct mesh_hi *hi; /* the high-poly source of --from (mesh_internal.h), or NULL */
 } mesh_bake_opts;
 typedef struct mesh_bake_stats {
     size_t covered;      /* texels inside some triangle */
@@ -71,6 +72,9 @@ typedef struct mesh_bake_stats {
     double texel_size;           /* mean object-space footprint of a covered texel (model units) */
     size_t tiles;            /* images handed to the sink */
     int tile_udim[MESH_UDIM_MAX_TILES]; /* their UDIM numbers in order (1001 without udim) */
+    /* --from: samples cast, samples whose rays missed HIGH, texels all of whose
+     * samples missed (they keep LOW's normal), texels with some missed */
+    size_t ray_samples, ray_misses, miss_texels, partial_miss_texels;
 } mesh_bake_stats;
 /* The vertex normals of an OUT.glb / OUT.gltf. */
 typedef enum mesh_gltf_normals {
@@ -109,7 +113,18 @@ typedef struct bgt_mesh_opts {
     const bgt_progress *progress; /* the bake's progress (texels), may be NULL */
     int gltf_normals;        /* a mesh_gltf_normals */
     int units;               /* a mesh_units */
+    /* High-poly to low-poly (docs/MESH.md): with `from`, the map holds the normals of
+     * HIGH where the rays from each texel's point of IN (LOW) hit it. */
+    const char *from;        /* HIGH: any mesh assimp reads, or NULL */
+    const char *cage;        /* LOW with its vertices moved outward (same triangles), or NULL */
+    double ray_distance;     /* front and back, in the units of `units`; 0: the default
+                              * MESH_DEFAULT_RAY_DISTANCE model radii of LOW */
+    const char *height_map;  /* signed distance LOW -> HIGH along the rays (file units), a
+                              * float image (.exr, .tif), or NULL */
+    const char *miss_map;    /* the fraction of each texel's samples that missed, or NULL */
+    int detail;              /* add the height's surface gradient at the hit points */
 } bgt_mesh_opts;
+#define MESH_DEFAULT_RAY_DISTANCE 0.1
 
 /* What `bumpgrad mesh` prints: the mesh, the normals, the perturbation
  * statistics (means over the vertices with a normal), the bake and the times. */
@@ -139,6 +154,11 @@ typedef struct bgt_mesh_result {
     const char *gltf_map_note;   /* why the map is not a normalTexture, or NULL */
     size_t gltf_materials, gltf_textures, gltf_textures_dropped;
     double t_load, t_normals, t_perturb, t_bake, t_write; /* seconds */
+    /* --from: HIGH, the Embree scene's build time (inside t_load), the ray distance
+     * (file units) */
+    size_t high_vertex_count, high_triangle_count, high_mesh_count, high_usable;
+    int high_file_normals;
+    double t_bvh, ray_distance;
 } bgt_mesh_result;
 
 /* Load the mesh (bg_mesh_load_ex: the import child), take or compute unit

@@ -25,6 +25,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include "bumpgrad/framework.h"
 #include "common/parallel.h"
 #include "mesh/mesh_internal.h"
 #include "mesh/mesh_uv.h"
@@ -48,6 +49,11 @@ typedef struct bake_ctx {
     atomic_int oom;
     const bgt_progress *progress;
     atomic_size_t done; /* texels of finished rows, over all tiles */
+    /* --from (NULL without): per texel the mean signed distance of the hits
+     * and the fraction of samples that missed (aux, 2 floats per texel) */
+    const mesh_hi *hi;
+    float *aux;
+    atomic_size_t rays, misses, miss_texels, partial_texels;
 } bake_ctx;
 
 static void flat_vector(const bake_ctx *c, float *out)
@@ -64,6 +70,55 @@ static void flat_vector(const bake_ctx *c, float *out)
  * triangle they extrapolate its plane). */
 static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, float *w1, float *w2);
 
+/* --from: the samples' rays (mesh_hi_trace_n from LOW's point p along LOW's
+ * normal q, or from the cage's point cg). A hit gives HIGH's point and its
+ * interpolated normal m there; the result is the unit m. With detail, the
+ * framework of Mikkelsen 2020 layers two influences on LOW's normal n: the
+ * sculpt's surface gradient (bg_surfgrad_from_perturbed_normal(n, m)) and the
+ * height's at HIGH's point (bg_surface_gradient(n, grad h)), resolved together
+ * (bg_resolve_normal): what a renderer gets layering the map and the height
+ * on LOW. A miss keeps LOW's own normal, without detail. The unit results go
+ * to g; hm is scratch (3 ns floats). */
+static void shade_high(bake_ctx *c, size_t ns, float *px, float *py, float *pz,
+                       const float *qx, const float *qy, const float *qz, const float *cg,
+                       float *dist, float *hit, float *hm, float *gx, float *gy, float *gz)
+{
+    mesh_hi_hit *hh = malloc((ns ? ns : 1) * sizeof *hh);
+    if (!hh || !mesh_hi_trace_n(c->hi, ns, px, py, pz, qx, qy, qz, cg, hh, hit)) {
+        free(hh);
+        atomic_store(&c->oom, 1);
+        memset(hit, 0, ns * sizeof *hit);
+    } else {
+        for (size_t s = 0; s < ns; s++) {
+            dist[s] = 0.0f;
+            if (hit[s] != 0.0f) {
+                px[s] = hh[s].p[0], py[s] = hh[s].p[1], pz[s] = hh[s].p[2];
+                memcpy(hm + 3 * s, hh[s].n, sizeof hh[s].n);
+                dist[s] = hh[s].dist;
+            }
+        }
+        free(hh);
+    }
+    if (c->hi->detail)
+        bgt_height_gradient(c->h, px, py, pz, ns, NULL, gx, gy, gz);
+    for (size_t s = 0; s < ns; s++) {
+        bg_vec3 n = {qx[s], qy[s], qz[s]}, r;
+        if (hit[s] == 0.0f) {
+            r = bg_resolve_normal(n, NULL, NULL, 0);
+        } else {
+            bg_vec3 m = {hm[3 * s], hm[3 * s + 1], hm[3 * s + 2]};
+            if (c->hi->detail) {
+                bg_vec3 sg[2] = {bg_surfgrad_from_perturbed_normal(n, m),
+                                 bg_surface_gradient(n, (bg_vec3){gx[s], gy[s], gz[s]})};
+                r = bg_resolve_normal(n, sg, NULL, 2);
+            } else {
+                r = bg_resolve_normal(m, NULL, NULL, 0);
+            }
+        }
+        gx[s] = r.x, gy[s] = r.y, gz[s] = r.z;
+    }
+}
+
 static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
 {
     const bg_mesh *m = c->m;
@@ -76,7 +131,7 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
     if (cnt == 0)
         return;
     size_t ns = cnt * S;
-    float *buf = malloc(ns * 10 * sizeof *buf);
+    float *buf = malloc(ns * (c->hi ? 18 : 10) * sizeof *buf);
     size_t *idx = malloc(cnt * sizeof *idx);
     if (!buf || !idx) {
         free(buf);
@@ -87,7 +142,11 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
     float *px = buf, *py = buf + ns, *pz = buf + 2 * ns;
     float *qx = buf + 3 * ns, *qy = buf + 4 * ns, *qz = buf + 5 * ns;
     float *gx = buf + 6 * ns, *gy = buf + 7 * ns, *gz = buf + 8 * ns, *fp = buf + 9 * ns;
-    size_t j = 0, s = 0;
+    /* --from: the signed distance and hit flag of each sample, the cage's point
+     * (and shade_high's scratch at 15 ns) */
+    float *dist = buf + 10 * ns, *hit = buf + 11 * ns, *cg = buf + 12 * ns;
+    const bg_mesh *cage = c->hi && c->hi->has_cage ? &c->hi->cage : NULL;
+    size_t j = 0, s = 0, n_miss = 0, n_miss_texels = 0, n_partial = 0;
     for (size_t k = begin * W; k < end * W; k++) {
         int32_t t = c->tri[k];
         if (t < 0)
@@ -106,10 +165,19 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
             qy[s] = w0 * c->ny[ix[0]] + w1 * c->ny[ix[1]] + w2 * c->ny[ix[2]];
             qz[s] = w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]];
             fp[s] = c->foot ? c->foot[t] / (float)N : 0.0f;
+            if (cage) { /* the same weights on the cage's triangle */
+                const uint32_t *cx = cage->indices + 3 * (size_t)t;
+                cg[3 * s] = w0 * cage->px[cx[0]] + w1 * cage->px[cx[1]] + w2 * cage->px[cx[2]];
+                cg[3 * s + 1] = w0 * cage->py[cx[0]] + w1 * cage->py[cx[1]] + w2 * cage->py[cx[2]];
+                cg[3 * s + 2] = w0 * cage->pz[cx[0]] + w1 * cage->pz[cx[1]] + w2 * cage->pz[cx[2]];
+            }
         }
         idx[j++] = k;
     }
-    if (c->foot && !c->h->grid) {
+    if (c->hi) {
+        shade_high(c, ns, px, py, pz, qx, qy, qz, cage ? cg : NULL, dist, hit, buf + 15 * ns, gx,
+                   gy, gz);
+    } else if (c->foot && !c->h->grid) {
         /* band-limited to each sample's footprint (the render's rule) */
         bg_perturb_height_footprint_batch(&c->h->h, c->method, fp, px, py, pz, qx, qy, qz, ns,
                                           NULL, gx, gy, gz);
@@ -123,6 +191,18 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
         size_t k = idx[j];
         float *out = c->vec + 3 * k;
         double n1x = 0.0, n1y = 0.0, n1z = 0.0;
+        if (c->hi) { /* the texel's distance and misses */
+            size_t hits = 0;
+            double dsum = 0.0;
+            for (size_t q = j * S; q < (j + 1) * S; q++)
+                if (hit[q] != 0.0f)
+                    hits++, dsum += dist[q];
+            c->aux[2 * k] = hits ? (float)(dsum / (double)hits) : 0.0f;
+            c->aux[2 * k + 1] = (float)(S - hits) / (float)S;
+            n_miss += S - hits;
+            n_miss_texels += hits == 0;
+            n_partial += hits > 0 && hits < S;
+        }
         if (S == 1) {
             n1x = gx[j], n1y = gy[j], n1z = gz[j];
         } else { /* the mean of the samples' unit normals, normalized */
@@ -164,6 +244,12 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
         }
         out[0] = (float)mm[0], out[1] = (float)(c->green_down ? -mm[1] : mm[1]);
         out[2] = (float)mm[2];
+    }
+    if (c->hi) {
+        atomic_fetch_add(&c->rays, ns);
+        atomic_fetch_add(&c->misses, n_miss);
+        atomic_fetch_add(&c->miss_texels, n_miss_texels);
+        atomic_fetch_add(&c->partial_texels, n_partial);
     }
     free(buf);
     free(idx);
@@ -293,8 +379,8 @@ static int raster_triangle(const bg_mesh *m, size_t t, double u0, double v0, int
  * between them instead of mixing them; a texel that a triangle covers is
  * never written. level[k]: 0 empty, 1 baked, p + 1 filled by pass p;
  * isl[k]: the island of a filled texel. */
-static size_t pad(float *vec, uint16_t *level, int32_t *isl, int W, int H, int passes,
-                  int tangent)
+static size_t pad(float *vec, float *aux, uint16_t *level, int32_t *isl, int W, int H,
+                  int passes, int tangent)
 {
     size_t filled = 0;
     for (int p = 1; p <= passes; p++) {
@@ -328,13 +414,18 @@ static size_t pad(float *vec, uint16_t *level, int32_t *isl, int W, int H, int p
                     if (cnt > best_count || (cnt == best_count && isl[nb[i]] < best))
                         best = isl[nb[i]], best_count = cnt;
                 }
-                double s[3] = {0, 0, 0};
+                double s[3] = {0, 0, 0}, a[2] = {0, 0};
+                int na = 0;
                 for (int i = 0; i < n; i++) {
                     if (isl[nb[i]] != best)
                         continue;
                     const float *v = vec + 3 * nb[i];
                     s[0] += v[0], s[1] += v[1], s[2] += v[2];
+                    if (aux) /* --from's distance and misses: the plain mean */
+                        a[0] += aux[2 * nb[i]], a[1] += aux[2 * nb[i] + 1], na++;
                 }
+                if (aux && na)
+                    aux[2 * k] = (float)(a[0] / na), aux[2 * k + 1] = (float)(a[1] / na);
                 double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
                 float *o = vec + 3 * k;
                 if (l > 0.0) {
@@ -506,11 +597,17 @@ typedef struct bake_bufs {
     int32_t *isl; /* the UV island of a baked or padded texel */
     uint8_t *multi, *overlapped; /* overlapped: per island, over all tiles */
     bg_image img;
+    float *aux;             /* --from: 2 floats per texel (bake_ctx.aux) */
+    bg_image dist, miss;    /* --from: the height and miss tiles (1 channel) */
 } bake_bufs;
 
-static int bufs_alloc(bake_bufs *b, int W, int H, size_t islands)
+static int bufs_alloc(bake_bufs *b, int W, int H, size_t islands, int hi)
 {
     size_t npix = (size_t)W * (size_t)H;
+    if (hi && (!(b->aux = malloc(npix * 2 * sizeof *b->aux)) ||
+               bg_image_alloc(&b->dist, W, H, 1) != BG_OK ||
+               bg_image_alloc(&b->miss, W, H, 1) != BG_OK))
+        return 0;
     b->tri = malloc(npix * sizeof *b->tri);
     b->b1 = malloc(npix * sizeof *b->b1), b->b2 = malloc(npix * sizeof *b->b2);
     b->vec = malloc(npix * 3 * sizeof *b->vec);
@@ -525,6 +622,9 @@ static int bufs_alloc(bake_bufs *b, int W, int H, size_t islands)
 static void bufs_free(bake_bufs *b)
 {
     bg_image_free(&b->img);
+    bg_image_free(&b->dist);
+    bg_image_free(&b->miss);
+    free(b->aux);
     free(b->tri);
     free(b->b1);
     free(b->b2);
@@ -569,6 +669,8 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
     memset(b->vec, 0, npix * 3 * sizeof *b->vec);
     memset(b->level, 0, npix * sizeof *b->level);
     memset(b->multi, 0, npix);
+    if (b->aux)
+        memset(b->aux, 0, npix * 2 * sizeof *b->aux);
     size_t skipped = 0, covered = 0;
     for (size_t t = 0; t < m->triangle_count; t++) {
         if (!mesh_triangle_usable(m, t) ||
@@ -611,8 +713,13 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
     }
     stats->covered += covered;
     stats->padded +=
-        pad(b->vec, b->level, b->isl, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+        pad(b->vec, b->aux, b->level, b->isl, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
     encode_tile(b, npix, o->space == MESH_BAKE_TANGENT, b->img.pixels);
+    if (b->aux) /* texels nothing reached: distance 0, not a miss */
+        for (size_t k = 0; k < npix; k++) {
+            b->dist.pixels[k] = b->level[k] ? (float)(b->aux[2 * k] * o->hi->dist_unit) : 0.0f;
+            b->miss.pixels[k] = b->level[k] ? b->aux[2 * k + 1] : 0.0f;
+        }
     return BG_OK;
 }
 
@@ -634,7 +741,15 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     const double ns = (double)(o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES);
     const double chunk = fmax(16384.0, (double)W * ns * ns);
     bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H) +
-                                       (double)(o->threads > 0 ? o->threads : 1) * chunk * 40.0,
+                                       (double)(o->threads > 0 ? o->threads : 1) * chunk * 40.0 +
+                                       /* --from: aux (8 bytes) and the height and miss
+                                        * tiles (4 + 4) per texel; a sample's 8 more floats
+                                        * and its two rays (an RTCRayHit of 80 bytes, a
+                                        * mesh_hi_hit of 28, its length) */
+                                       (o->hi ? 16.0 * (double)npix +
+                                                    (double)(o->threads > 0 ? o->threads : 1) *
+                                                        chunk * 144.0
+                                              : 0.0),
                                    "the bake buffers", e);
     if (rc != BG_OK)
         return rc;
@@ -666,7 +781,7 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     texel_footprints(m, W, H, foot);
     bgt_progress_begin(o->progress, "bake", ntiles * npix);
     bake_bufs b = {0};
-    if (!bufs_alloc(&b, W, H, stats->islands)) {
+    if (!bufs_alloc(&b, W, H, stats->islands, o->hi != NULL)) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d bake", W, H);
         goto done;
     }
@@ -676,9 +791,13 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
                   .vec = b.vec, .progress = o->progress, .height = H,
                   .samples = o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES,
                   .foot = o->filter == MESH_FILTER_FOOTPRINT && !h->grid ? foot : NULL,
-                  .foot_all = foot};
+                  .foot_all = foot, .hi = o->hi, .aux = b.aux};
     atomic_init(&c.oom, 0);
     atomic_init(&c.done, 0);
+    atomic_init(&c.rays, 0);
+    atomic_init(&c.misses, 0);
+    atomic_init(&c.miss_texels, 0);
+    atomic_init(&c.partial_texels, 0);
     for (size_t ti = 0; ti < ntiles; ti++) {
         int empty = 0;
         rc = bake_tile(m, o, &c, &b, island, tiles[ti], ti == 0, &empty, stats, e);
@@ -687,6 +806,12 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         if (empty)
             continue;
         if ((rc = sink(sink_ctx, tiles[ti], &b.img, e)) != BG_OK)
+            goto done;
+        if (o->hi && o->hi->height_sink &&
+            (rc = o->hi->height_sink(o->hi->height_ctx, tiles[ti], &b.dist, e)) != BG_OK)
+            goto done;
+        if (o->hi && o->hi->miss_sink &&
+            (rc = o->hi->miss_sink(o->hi->miss_ctx, tiles[ti], &b.miss, e)) != BG_OK)
             goto done;
         stats->tile_udim[stats->tiles++] = tiles[ti];
     }
@@ -700,6 +825,10 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         goto done;
     }
     stats->texel_size = stats->covered ? stats->texel_size / (double)stats->covered : 0.0;
+    stats->ray_samples = atomic_load(&c.rays);
+    stats->ray_misses = atomic_load(&c.misses);
+    stats->miss_texels = atomic_load(&c.miss_texels);
+    stats->partial_miss_texels = atomic_load(&c.partial_texels);
 done:
     bgt_progress_end(o->progress);
     bufs_free(&b);

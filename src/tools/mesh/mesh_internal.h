@@ -32,6 +32,48 @@ int mesh_ply_write(FILE *fp, const mesh_ply_out *d);
  * order; the image is freed after the call. A status other than BG_OK stops
  * the bake and is returned. */
 typedef bg_status (*mesh_bake_sink)(void *ctx, int udim, const bg_image *img, bgt_err *e);
+/* ---- the high-poly source of --from (mesh_hi.c) ----
+ * HIGH in LOW's height frame with its unit vertex normals and an Embree
+ * scene of its usable triangles; the optional cage (LOW's triangles, moved). */
+typedef struct mesh_hi {
+    bg_mesh high, cage;
+    int has_cage, file_normals, own_normals;
+    float *nx, *ny, *nz;  /* HIGH's unit vertex normals ((0,0,0): none) */
+    uint32_t *prim;       /* Embree primitive -> HIGH triangle */
+    size_t usable;        /* triangles in the scene */
+    float distance;       /* the ray distance, front and back (height frame) */
+    double build_seconds; /* Embree's BVH build */
+    void *device, *scene; /* RTCDevice, RTCScene */
+    /* set by the caller before the bake: */
+    int detail;           /* add the height's surface gradient at the hit point */
+    double dist_unit;     /* file units per height-frame unit (the height map's unit) */
+    mesh_bake_sink height_sink, miss_sink; /* 1-channel tiles, or NULL */
+    void *height_ctx, *miss_ctx;
+} mesh_hi;
+typedef struct mesh_hi_hit {
+    float p[3], n[3]; /* the hit point on HIGH, its interpolated normal (not unit) */
+    float dist;       /* signed distance from LOW to HIGH along the ray (+: outside) */
+} mesh_hi_hit;
+/* Load HIGH (and the cage) with `join`, move them into the frame (p - c) / r
+ * of LOW's height (c = 0, r = 1: the file's units), build the scene. `distance`
+ * (> 0, finite) is in that frame. BG_ERR_INVALID_ARGUMENT / BG_ERR_FORMAT for
+ * bad input (HIGH without a usable triangle, a cage with another triangle
+ * count than LOW, no Embree), BG_ERR_OUT_OF_MEMORY. On failure *hi holds
+ * nothing. */
+bg_status mesh_hi_open(mesh_hi *hi, const char *high_path, const char *cage_path,
+                       const bg_mesh *low, unsigned join, const double centre[3], double radius,
+                       double distance, int threads, bgt_err *e);
+void mesh_hi_close(mesh_hi *hi);
+/* The rays of n samples (two coherent Embree streams): from (px, py, pz)[s]
+ * along the normalized (qx, qy, qz)[s] both ways up to the distance (the
+ * nearer hit; a tie goes to the front), or with `cage` (3 floats per sample:
+ * the cage's matching point) from it toward p and as far again past p (the
+ * first hit). hit[s] = 1 and out[s] on a hit, 0 on a miss. Returns 0 when out
+ * of memory, else 1. Thread-safe. */
+int mesh_hi_trace_n(const mesh_hi *hi, size_t n, const float *px, const float *py,
+                    const float *pz, const float *qx, const float *qy, const float *qz,
+                    const float *cage, mesh_hi_hit *out, float *hit);
+
 /* Rasterize the mesh in UV space, one tile after the other (tile (a, b)
  * holds u in [a, a + 1], v in [b, b + 1]; the tangent frames are computed once
  * from the unshifted UVs). `nx/ny/nz` are the unit vertex normals; `h` is

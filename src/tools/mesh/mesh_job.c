@@ -196,6 +196,52 @@ const char *mesh_out_format_name(mesh_out_format f, int ascii)
     }
 }
 
+/* The options of a high-poly bake (--from): they need it and the map, and
+ * their maps are files of their own, named with <UDIM> exactly when the
+ * normal map is. */
+static bg_status check_high(const bgt_mesh_opts *o, bgt_err *e)
+{
+    const char *aux[2] = {o->height_map, o->miss_map};
+    const char *names[2] = {"--bake-height-map", "--miss-map"};
+    if (!o->from && (o->cage || o->height_map || o->miss_map || o->ray_distance != 0.0))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "%s is for a high-poly bake: give the high-poly mesh with --from HIGH",
+                        o->cage ? "--cage" : o->height_map ? "--bake-height-map"
+                                       : o->miss_map     ? "--miss-map"
+                                                         : "--ray-distance");
+    if (!o->from)
+        return BG_OK;
+    if (!o->bake_path)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--from bakes a normal map: give --bake-normal-map FILE and --size");
+    if (o->ray_distance != 0.0 && !(o->ray_distance > 0.0 && isfinite(o->ray_distance)))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--ray-distance %g: expected a finite distance > 0", o->ray_distance);
+    int udim = strstr(o->bake_path, MESH_UDIM_TOKEN) != NULL;
+    for (int i = 0; i < 2; i++) {
+        if (!aux[i])
+            continue;
+        if (strcmp(aux[i], "-") == 0 || is_device(aux[i]))
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "%s %s: give a regular file's name",
+                            names[i], aux[i]);
+        if ((strstr(aux[i], MESH_UDIM_TOKEN) != NULL) != udim)
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "%s %s: name it with <UDIM> exactly when --bake-normal-map is (%s)",
+                            names[i], aux[i], o->bake_path);
+        if (same_file(aux[i], o->bake_path) || (o->output && same_file(aux[i], o->output)) ||
+            (i == 1 && aux[0] && same_file(aux[0], aux[1])))
+            return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                            "%s %s names the same file as another output", names[i], aux[i]);
+    }
+    if (o->height_map && !ends_with_ci(o->height_map, ".exr") &&
+        !ends_with_ci(o->height_map, ".tif") && !ends_with_ci(o->height_map, ".tiff"))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--bake-height-map %s: signed distances need a float image: name it "
+                        ".exr or .tif",
+                        o->height_map);
+    return BG_OK;
+}
+
 bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e)
 {
     if (!o || !o->input || !o->height)
@@ -251,7 +297,7 @@ bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e)
          * replace a device node such as /dev/null with a regular file. */
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         "--bake-normal-map: %s exists and is not a regular file", bake_path);
-    return BG_OK;
+    return check_high(o, e);
 }
 
 /* Vertex normals: the file's, normalized, or angle-weighted ones (allocated
@@ -289,6 +335,7 @@ typedef struct map_out {
     mesh_gltf_map gmap[MESH_UDIM_MAX_TILES]; /* per tile written, for the glTF */
     int gtile[MESH_UDIM_MAX_TILES];
     size_t ng;
+    const char *what;     /* for messages: "normal map" when NULL */
 } map_out;
 
 /* The map is OpenEXR: a file's extension says so, or on "-" its --format
@@ -336,7 +383,7 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
                         ws == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
                         : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
                                                       : BG_ERR_IO,
-                        "normal map %s: %s", final, err);
+                        "%s %s: %s", mo->what ? mo->what : "normal map", final, err);
     if (mo->gltf && mo->ng < MESH_UDIM_MAX_TILES) {
         mo->gtile[mo->ng] = udim;
         return mesh_gltf_map_image(&mo->gmap[mo->ng++], img, to_stdout ? NULL : target, final,
@@ -476,9 +523,11 @@ static void count_defects(const bg_mesh *m, bgt_mesh_result *r)
 
 /* The normal map of --bake-normal-map, through map_sink into mo's temporaries. */
 static bg_status bake_map(const bgt_mesh_opts *o, const bg_mesh *m, const vertex_job *job,
-                          int threads, map_out *mo, bgt_mesh_result *r, bgt_err *e)
+                          int threads, map_out *mo, const mesh_hi *hi, bgt_mesh_result *r,
+                          bgt_err *e)
 {
     mesh_bake_opts bake = o->bake;
+    bake.hi = hi;
     bake.method = job->method;
     bake.threads = threads;
     bake.progress = o->progress;
@@ -772,8 +821,14 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     int file_normals = m.nx != NULL;
     float *ox = NULL, *oy = NULL, *oz = NULL, *outs = NULL, *fpos = NULL;
     chunk_stats *stats = NULL;
-    map_out mo;
+    map_out mo, ho, mm; /* the normal map; --from's height and miss maps */
     memset(&mo, 0, sizeof mo);
+    memset(&ho, 0, sizeof ho);
+    memset(&mm, 0, sizeof mm);
+    mesh_hi hi;
+    memset(&hi, 0, sizeof hi);
+    int hi_open = 0;
+    double t_hi = 0.0;
     mesh_out w;
     memset(&w, 0, sizeof w);
     r->vertex_count = nv;
@@ -842,8 +897,43 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     if (st != BG_OK)
         goto done;
 
+    if (o->from) {
+        /* HIGH (and the cage) in the height's frame; --ray-distance in its units */
+        double c0[3] = {0.0, 0.0, 0.0};
+        int model = o->units == MESH_UNITS_MODEL;
+        double dist = o->ray_distance > 0.0 ? o->ray_distance
+                      : model              ? MESH_DEFAULT_RAY_DISTANCE
+                                           : MESH_DEFAULT_RAY_DISTANCE * r->model_radius;
+        double tb = now_seconds();
+        if ((st = mesh_hi_open(&hi, o->from, o->cage, &m, o->join, model ? r->model_centre : c0,
+                               model ? r->model_radius : 1.0, dist, threads, e)) != BG_OK)
+            goto done;
+        hi_open = 1;
+        t_hi = now_seconds() - tb;
+        r->high_vertex_count = hi.high.vertex_count;
+        r->high_triangle_count = hi.high.triangle_count;
+        r->high_mesh_count = hi.high.mesh_count;
+        r->high_usable = hi.usable;
+        r->high_file_normals = hi.file_normals;
+        r->t_bvh = hi.build_seconds;
+        r->ray_distance = dist * r->unit;
+        hi.detail = o->detail;
+        hi.dist_unit = r->unit;
+        int udim = strstr(o->bake_path, MESH_UDIM_TOKEN) != NULL;
+        if (o->height_map) {
+            ho.path = o->height_map, ho.udim = udim, ho.type = BG_PIXEL_F32;
+            ho.what = "height map";
+            hi.height_sink = map_sink, hi.height_ctx = &ho;
+        }
+        if (o->miss_map) {
+            mm.path = o->miss_map, mm.udim = udim, mm.what = "miss map";
+            mm.type = map_is_exr(o->miss_map, NULL) ? BG_PIXEL_HALF : BG_PIXEL_U8;
+            hi.miss_sink = map_sink, hi.miss_ctx = &mm;
+        }
+    }
     double t_bake0 = now_seconds();
-    if (o->bake_path && (st = bake_map(o, &frame, &job, threads, &mo, r, e)) != BG_OK)
+    if (o->bake_path &&
+        (st = bake_map(o, &frame, &job, threads, &mo, o->from ? &hi : NULL, r, e)) != BG_OK)
         goto done;
     double t_bake1 = now_seconds();
 
@@ -853,21 +943,28 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         goto done;
     if (o->bake_path && (st = map_commit(&mo, e)) != BG_OK)
         goto done;
+    if ((st = map_commit(&ho, e)) != BG_OK || (st = map_commit(&mm, e)) != BG_OK)
+        goto done;
     if (o->output && (st = out_commit(&w, e)) != BG_OK)
         goto done;
 
     if (o->output)
         r->output_format = mesh_out_format_name(mesh_out_format_of(o->output), o->ascii);
     double t_end = now_seconds();
-    r->t_load = t_load - t0;
+    r->t_load = t_load - t0 + t_hi;
     r->t_normals = t_normals - t_load;
     r->t_perturb = t_perturb - t_normals;
-    r->t_bake = o->bake_path ? t_bake1 - t_bake0 - mo.t_write : 0.0;
-    r->t_write = t_end - (o->bake_path ? t_bake1 : t_bake0) + mo.t_write;
+    double t_maps = mo.t_write + ho.t_write + mm.t_write;
+    r->t_bake = o->bake_path ? t_bake1 - t_bake0 - t_maps : 0.0;
+    r->t_write = t_end - (o->bake_path ? t_bake1 : t_bake0) + t_maps;
 
 done:
     out_free(&w);
     map_free(&mo);
+    map_free(&ho);
+    map_free(&mm);
+    if (hi_open)
+        mesh_hi_close(&hi);
     free(outs);
     free(fpos);
     free(stats);
