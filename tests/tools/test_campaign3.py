@@ -108,6 +108,12 @@ def case_jpg_full(d):
     full_disk(d, "render jpg", ["render", "--size", "8x8", "-o", "o.jpg"],
               ["render", "--size", "1024x1024", "-o", "o.jpg"], "o.jpg", 4096,
               ["cannot write", "failed"])
+    # A bake's tile: the image writer is handed a temporary, and makes its own
+    # nested one; neither is left, and the message names the user's file.
+    write_obj(os.path.join(d, "m.obj"), 4)
+    full_disk(d, "bake jpg", ["mesh", "m.obj", "--bake-normal-map", "n.jpg", "--size", "8"],
+              ["mesh", "m.obj", "--bake-normal-map", "n.jpg", "--size", "1024"], "n.jpg", 4096,
+              ["cannot write", "failed"])
 
 
 def case_links(d):

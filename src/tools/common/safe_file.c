@@ -65,10 +65,13 @@ static void exit_guard(void)
         char *p = atomic_exchange(&live_temps[i], NULL);
         if (p) {
             unlink(p);
+            /* The user's name, not a temporary's (a nested temporary's
+             * target is the outer temporary). */
+            const char *t = atomic_load(&live_targets[i]);
+            if (t && (!target || strstr(target, ".tmp-bumpgrad-")) && !strstr(t, ".tmp-bumpgrad-"))
+                target = t;
             if (!target)
-                target = atomic_load(&live_targets[i]);
-            if (!target)
-                target = p;
+                target = t ? t : p;
         }
     }
     bgt_safe_exit_note note = atomic_load(&exit_note);
