@@ -213,14 +213,19 @@ unsigned bg_io_child_timeout(void)
 static size_t child_cap;
 static void child_death_check(void)
 {
-    FILE *f = std::fopen("/proc/self/statm", "r");
-    unsigned long long pages = 0;
-    if (!f)
+    // No stdio and no allocation here: the allocator is what just failed
+    // (an fopen here deadlocked the child until its time-out).
+    char buf[64];
+    const int fd = ::open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
         return;
-    const int got = std::fscanf(f, "%llu", &pages);
-    std::fclose(f);
+    const ssize_t n = ::read(fd, buf, sizeof buf - 1);
+    ::close(fd);
+    uint64_t pages = 0;
+    for (ssize_t i = 0; i < n && buf[i] >= '0' && buf[i] <= '9'; ++i)
+        pages = pages * 10 + static_cast<uint64_t>(buf[i] - '0');
     const uint64_t size = pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
-    if (got == 1 && child_cap && size + (uint64_t(64) << 20) >= child_cap)
+    if (n > 0 && child_cap && size + (uint64_t(64) << 20) >= child_cap)
         _exit(BG_IO_CHILD_OVER_CAP);
 }
 #endif

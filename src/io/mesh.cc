@@ -657,7 +657,9 @@ int read_wire_materials(int fd, const wire_header &h, bg_mesh &m, bool &got)
 int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, size_t errlen)
 {
     int fds[2];
-    if (pipe(fds) != 0)
+    // O_CLOEXEC: a program the child starts (ASan's symbolizer, on a report)
+    // must not hold the write end open, or the parent would wait for ever.
+    if (pipe2(fds, O_CLOEXEC) != 0)
         return -1;
     pid_t parent = getpid();
     pid_t pid = fork();
