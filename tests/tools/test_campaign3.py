@@ -15,6 +15,8 @@ Each one failed before its fix (docs/RELIABILITY.md, "Third campaign"):
   BUMPGRAD_IO_MODULE hung;
 - sweep: nested and short-form temporaries of a killed run were never removed;
 - long_names: a legal 240-character output name failed;
+- textures_under: BUMPGRAD_TEXTURES_UNDER=DIR refuses a material texture
+  that resolves outside DIR ("../", absolute, a link), and keeps the ones inside;
 - udim_race: two runs writing one UDIM set (and its .glb) at once could leave
   a mix of both, each exiting 0 (the renames are now made under one lock).
 """
@@ -28,7 +30,7 @@ import tempfile
 
 EXE = os.path.abspath(sys.argv[1])
 CASES = sys.argv[2:] or ["obj_full", "jpg_full", "links", "modes", "env", "sweep", "long_names",
-                         "udim_race"]
+                         "udim_race", "textures_under"]
 FAILURES = []
 TAG = ".tmp-bumpgrad-"
 # Under AddressSanitizer a child that runs out of its address space can hang
@@ -332,6 +334,42 @@ def case_udim_race(d):
             mixed += 1
     check(mixed == 0, f"every set is one run's, never a mix ({mixed} of {ROUNDS} rounds mixed)")
     check(temps(d) == [], f"no temporary left ({temps(d)})")
+
+def case_textures_under(d):
+    secret, meshes = os.path.join(d, "secret"), os.path.join(d, "meshes")
+    os.makedirs(secret)
+    os.makedirs(os.path.join(meshes, "m"))
+    def ppm(path, rgb):
+        with open(path, "wb") as f:
+            f.write(b"P6 8 8 255\n" + bytes(rgb) * 64)
+    ppm(os.path.join(secret, "s.ppm"), (230, 20, 20))
+    ppm(os.path.join(meshes, "m", "ok.ppm"), (20, 230, 20))
+    os.symlink(os.path.join(secret, "s.ppm"), os.path.join(meshes, "m", "link.ppm"))
+    def quad(tex):
+        with open(os.path.join(meshes, "m", "q.mtl"), "w") as f:
+            f.write("newmtl a\nKd 1 1 1\nmap_Kd %s\n" % tex)
+        with open(os.path.join(meshes, "m", "q.obj"), "w") as f:
+            f.write("mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\n"
+                    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl a\nf 1/1/1 2/2/1 3/3/1 4/4/1\n")
+    render = ["render", "--mesh", "meshes/m/q.obj", "--method", "none", "--size", "16x16",
+              "-o", "o.png"]
+    confined = {"BUMPGRAD_TEXTURES_UNDER": meshes}
+    for tex, what in [("../../secret/s.ppm", "a ../ path"),
+                      (os.path.join(secret, "s.ppm"), "an absolute path"),
+                      ("link.ppm", "a link inside that points outside")]:
+        quad(tex)
+        r = run(render, d)
+        check(r.returncode == 0, f"{what}: read without the variable, as renderers do ({r.stderr.strip()!r})")
+        r = run(render, d, env=confined)
+        check(r.returncode == 2 and "BUMPGRAD_TEXTURES_UNDER" in r.stderr and "s.ppm" in r.stderr,
+              f"{what}: refused under BUMPGRAD_TEXTURES_UNDER ({r.returncode}, {r.stderr.strip()!r})")
+    quad("ok.ppm")
+    r = run(render, d, env=confined)
+    check(r.returncode == 0, f"a texture inside the folder is used ({r.stderr.strip()!r})")
+    r = run(render, d, env={"BUMPGRAD_TEXTURES_UNDER": os.path.join(d, "nosuch")})
+    check(r.returncode == 2 and "BUMPGRAD_TEXTURES_UNDER" in r.stderr,
+          f"BUMPGRAD_TEXTURES_UNDER naming no folder: exit 2 ({r.stderr.strip()!r})")
+
 
 for case in CASES:
     print(f"== {case}")

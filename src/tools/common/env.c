@@ -72,6 +72,11 @@ bg_status bgt_env_check(bgt_err *e)
     for (size_t i = 0; i < NVARS; i++)
         if (bgt_env_uint(num_vars[i].name, &v, e) != BG_OK)
             return e ? e->status : BG_ERR_INVALID_ARGUMENT;
+    const char *tex = getenv("BUMPGRAD_TEXTURES_UNDER");
+    struct stat ts;
+    if (tex && *tex && (stat(tex, &ts) != 0 || !S_ISDIR(ts.st_mode)))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "environment variable BUMPGRAD_TEXTURES_UNDER=%s: not a folder", tex);
     const char *mod = getenv("BUMPGRAD_IO_MODULE");
     if (mod && *mod) {
         struct stat st;

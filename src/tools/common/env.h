@@ -23,7 +23,8 @@ extern "C" {
 bg_status bgt_env_uint(const char *name, unsigned long long *out, bgt_err *e);
 
 /* Every BUMPGRAD_* variable that is set: the numbers as above, and
- * BUMPGRAD_IO_MODULE must name a regular file (a FIFO would hang the load). */
+ * BUMPGRAD_IO_MODULE must name a regular file (a FIFO would hang the load),
+ * BUMPGRAD_TEXTURES_UNDER a folder. */
 bg_status bgt_env_check(bgt_err *e);
 
 #ifdef __cplusplus
