@@ -4,7 +4,7 @@
  * through the fused bg_perturb_height_batch), one directional light, and writes
  * a binary PPM (P6).
  *
- *   cc shade_sphere.c $(pkg-config --cflags --libs bumpgrad) -o shade_sphere
+ *   cc shade_sphere.c $(pkg-config --cflags --libs bumpgrad) -lm -o shade_sphere
  *   ./shade_sphere sphere.ppm [size]
  *
  * The height field is solid (a function of the 3D position), so the sphere

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file framework.h
- * @brief The surface-gradient bump mapping framework (Mikkelsen 2020, as retold in
- *        the seed "surface-gradient-framework-overview.md") on the CPU: every bump
+ * @brief The surface-gradient bump mapping framework (Mikkelsen 2020, "Surface
+ *        Gradient-Based Bump Mapping Framework", JCGT 9(3); as retold in the article
+ *        "Surface Gradient Bump Mapping Framework Overview") on the CPU: every bump
  *        source turned into a surface gradient, and one normal resolve.
  *
  * The idea: a bump influence is not a normal but a surface gradient grad_S h, a

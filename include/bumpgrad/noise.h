@@ -231,6 +231,14 @@ BG_API float bg_octave_weight(float footprint, float lacunarity, int octave);
  *  `max_octaves` outside 0..BG_MAX_OCTAVES: NaN. */
 BG_API float bg_octaves_for_footprint(float footprint, int max_octaves);
 
+/** Footprint of one ray-traced sample on the surface, from its ray differentials
+ *  dP/dx and dP/dy at the hit (bg_ray_differentials in framework.h):
+ *  max(|dpdx|, |dpdy|), in the units of P. Multiply by the height field's
+ *  frequency for the noise-space footprint the calls here take. NaN if either
+ *  vector has a NaN component (NaN footprints filter nothing); +inf if a length
+ *  overflows float (every octave is then dropped). */
+BG_API float bg_footprint_from_differentials(bg_vec3 dpdx, bg_vec3 dpdy);
+
 /** Fractal value and analytic gradient with per-sample footprints (noise space):
  *  octave i is weighted by c_i as above and skipped where c_i = 0 for every
  *  sample. `value` may be NULL; `footprint` is required. Uses the dispatched

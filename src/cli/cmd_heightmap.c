@@ -1,13 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /* `bumpgrad heightmap`: an image read as a height field -> a tangent-space
- * normal map (the seed's "bump map generation from a diffuse texture"), or
+ * normal map (the method of the article "Bump Map Generation": a normal map
+ * from a diffuse texture), or
  * with --to-derivative a tangent-space normal map -> a derivative map. This
  * file parses the options and runs the conversion (bgt_heightmap_run,
  * src/tools/bake/heightmap.c). */
 #include <math.h>
 #include <string.h>
 #include "args.h"
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 #include "cli.h"
 #include "json.h"
 
@@ -29,7 +30,7 @@ static void heightmap_defaults(void *p)
     a->strength = 1.0f;
 }
 
-static const char *const gray_choices[] = {"seed", "rec709", NULL};
+static const char *const gray_choices[] = {"diffuse", "rec709", NULL};
 static const int gray_values[] = {BGT_GRAY_SEED, BGT_GRAY_REC709};
 static const char *const edge_choices[] = {"clamp", "wrap", NULL};
 static const char *const bits_choices[] = {"8", "16", "float", NULL};
@@ -37,9 +38,10 @@ static const int bits_values[] = {8, 16, 32};
 
 #define A(m) offsetof(heightmap_args, m)
 static const cli_opt heightmap_opts[] = {
-    {.name = "gray", .kind = CLI_KIND_CHOICE, .offset = A(gray), .metavar = "seed|rec709",
-     .help = "gray level of a colour input from its stored values (no decoding of sRGB): seed = "
-             "0.33 R + 0.66 G + 0.11 B (the weights sum to 1.1, so H may exceed 1), rec709 = "
+    {.name = "gray", .kind = CLI_KIND_CHOICE, .offset = A(gray), .metavar = "diffuse|rec709",
+     .help = "gray level of a colour input from its stored values (no decoding of sRGB): diffuse "
+             "= 0.33 R + 0.66 G + 0.11 B (the weights of \"Bump Map Generation\"; they sum "
+             "to 1.1, so H may exceed 1), rec709 = "
              "0.2126 R + 0.7152 G + 0.0722 B. One- and two-channel inputs use their first "
              "channel as H.",
      .choices = gray_choices, .choice_values = gray_values},
@@ -79,13 +81,13 @@ static const cli_opt heightmap_opts[] = {
 #undef A
 
 CLI_SPEC(heightmap,
-    .summary = "image -> tangent-space normal map (seed method); normal map -> derivative map",
+    .summary = "image -> tangent-space normal map (central differences); normal map -> derivative map",
     .usage = "IN OUT [options]\nIN OUT --to-derivative [--bits float]",
     .about = "Turn any image OpenImageIO reads into a tangent-space normal map, treating\n"
-             "its gray level as a height H (the seed's \"bump map from a diffuse texture\"):\n"
+             "its gray level as a height H (the method of the article \"Bump Map Generation\"):\n"
              "  a = H[x+1,y] - H[x-1,y],  b = H[x,y-1] - H[x,y+1]   (y-1 is the row above)\n"
              "  n = normalize(-S*a, -S*b, 1)\n"
-             "The differences are NOT divided by 2, as in the seed: they span two pixels,\n"
+             "The differences are NOT divided by 2, as in that article: they span two pixels,\n"
              "so --strength 0.5 gives the per-pixel slope. +x is right, +y is up (the\n"
              "OpenGL / \"Y+\" convention; --y-down flips green for DirectX), +z points\n"
              "out of the surface. Stored as 0.5*n + 0.5 in R, G, B (no sRGB curve).\n",
@@ -112,6 +114,38 @@ CLI_SPEC(heightmap,
     .max_positional = 2,
 );
 
+/* The image is the output: the text is one line with -v, nothing else. */
+static void print_text(const char *in, const char *out, double dt)
+{
+    cli_info(CMD, "%s -> %s in %.3f s", in, out, dt);
+}
+
+/* One JSON object of the run and its parameters (--json). */
+static void print_json(const heightmap_args *a, const char *in, const char *out, double dt)
+{
+    cli_json j;
+    cli_json_begin(&j, stdout);
+    cli_json_common(&j, CMD, dt);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "input", in);
+    cli_json_str(&j, "output", out);
+    cli_json_str(&j, "gray", a->gray == BGT_GRAY_REC709 ? "rec709" : "diffuse");
+    cli_json_float(&j, "strength", a->strength);
+    cli_json_str(&j, "edge", a->wrap ? "wrap" : "clamp");
+    cli_json_bool(&j, "y_down", a->y_down);
+    cli_json_bool(&j, "to_derivative", a->to_derivative);
+    if (a->format)
+        cli_json_str(&j, "format", a->format);
+    if (a->input_format)
+        cli_json_str(&j, "input_format", a->input_format);
+    if (a->bits)
+        cli_json_int(&j, "bits", a->bits);
+    else
+        cli_json_str(&j, "bits", "default");
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
+
 static int run_heightmap(void *args, const char *const *pos, int npos)
 {
     heightmap_args a = *(heightmap_args *)args;
@@ -131,28 +165,9 @@ static int run_heightmap(void *args, const char *const *pos, int npos)
     double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(CMD, st, &err);
-    if (a.json) {
-        cli_json j;
-        cli_json_begin(&j, stdout);
-        cli_json_common(&j, CMD, dt);
-        cli_json_object(&j, "parameters");
-        cli_json_str(&j, "input", pos[0]);
-        cli_json_str(&j, "output", pos[1]);
-        cli_json_str(&j, "gray", a.gray == BGT_GRAY_REC709 ? "rec709" : "seed");
-        cli_json_float(&j, "strength", a.strength);
-        cli_json_str(&j, "edge", a.wrap ? "wrap" : "clamp");
-        cli_json_bool(&j, "y_down", a.y_down);
-        cli_json_bool(&j, "to_derivative", a.to_derivative);
-        if (a.format)
-            cli_json_str(&j, "format", a.format);
-        if (a.input_format)
-            cli_json_str(&j, "input_format", a.input_format);
-        if (a.bits)
-            cli_json_int(&j, "bits", a.bits);
-        else
-            cli_json_str(&j, "bits", "default");
-        cli_json_close(&j);
-        cli_json_end(&j);
-    }
+    if (a.json)
+        print_json(&a, pos[0], pos[1], dt);
+    else
+        print_text(pos[0], pos[1], dt);
     return CLI_OK;
 }

@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "common/env.h"
 #include "common/safe_file.h"
+#include "kernels/kernels.h" /* bg_isa_list: the levels dispatch knows */
 
 /* The subcommand table, in the order `bumpgrad --help` lists them.
  * To add a command: declare its cli_spec_<name> in cli.h, add cmd_<name>.c to
@@ -73,23 +74,23 @@ static void main_help(FILE *fp)
           "  BUMPGRAD_ISA  same as --isa; an unknown or unsupported level is an error\n"
           "  BUMPGRAD_NO_PROGRESS  if set (to anything), no progress line on a terminal\n"
           "                either; --progress still forces it\n"
+          "  BUMPGRAD_MAX_MB  cap in MiB on every allocation an input decides (default\n"
+          "                4096, 0 = no cap)\n"
+          "  BUMPGRAD_CHILD_TIMEOUT  seconds a mesh import or VDB probe child may run\n"
+          "                (default 60)\n"
+          "  BUMPGRAD_MESH_MAX_MB, BUMPGRAD_VDB_MAX_MB  memory allowance in MiB of the\n"
+          "                mesh import and VDB probe children (0 = no cap)\n"
+          "  BUMPGRAD_IO_MODULE  path of the I/O module (default: found next to the\n"
+          "                library)\n"
+          "  BUMPGRAD_FONT  font of the render panels' labels (a name or a .ttf path);\n"
+          "                BUMPGRAD_BITMAP_FONT (set to anything) uses the built-in 5x7 font\n"
+          "  BUMPGRAD_TEXTURES_UNDER  a folder: render --mesh uses material textures\n"
+          "                only from inside it (for untrusted meshes)\n"
+          "A bad value of any of these is an error (exit 2) naming the variable.\n"
           "\n"
-          "Exit status: 0 success, 1 runtime failure (I/O, memory), 2 bad input or usage.\n",
+          "Exit status: 0 success, 1 runtime failure (I/O, memory), 2 bad input or usage,\n"
+          "3 `render --compare --fail-above DEG` found a mean error above DEG.\n",
           fp);
-}
-
-/* A level is usable if it is scalar, the best one, or below the best on the same
- * x86 chain (NEON is its own chain); the same rule as the library's dispatch. */
-/* The levels this CPU and build can run, by the library's one rule. */
-static void list_usable(char *buf, size_t len)
-{
-    buf[0] = '\0';
-    for (int i = 0; i < BG_ISA_COUNT; i++)
-        if (bg_isa_supported((bg_isa)i)) {
-            if (buf[0])
-                strncat(buf, ", ", len - strlen(buf) - 1);
-            strncat(buf, bg_isa_name((bg_isa)i), len - strlen(buf) - 1);
-        }
 }
 
 /* Apply an ISA request from `source` ("--isa" or "BUMPGRAD_ISA"); CLI_USAGE on
@@ -98,7 +99,7 @@ static int apply_isa(const char *source, const char *name)
 {
     char have[96];
     bg_isa isa;
-    list_usable(have, sizeof have);
+    bg_isa_list(have, sizeof have, 1);
     if (bg_isa_parse(name, &isa) != BG_OK)
         return cli_usage_error(NULL, "%s: unknown ISA level \"%s\" (this CPU has: %s)", source,
                                name, have);
@@ -159,8 +160,11 @@ static int global_option(int argc, char **argv, int *i, const char **isa)
 {
     const char *o = argv[*i];
     if (strcmp(o, "--isa") == 0) {
-        if (*i + 1 >= argc)
-            return cli_usage_error(NULL, "--isa needs a value (scalar, sse2, avx2, avx512, neon)");
+        if (*i + 1 >= argc) {
+            char all[96];
+            bg_isa_list(all, sizeof all, 0);
+            return cli_usage_error(NULL, "--isa needs a value (%s)", all);
+        }
         *isa = argv[++*i];
     } else if (strncmp(o, "--isa=", 6) == 0) {
         *isa = o + 6;

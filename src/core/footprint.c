@@ -41,6 +41,16 @@ float bg_octaves_for_footprint(float footprint, int max_octaves)
     return sum;
 }
 
+/* The footprint of a ray-traced sample: the longer of its two ray differentials. */
+float bg_footprint_from_differentials(bg_vec3 dpdx, bg_vec3 dpdy)
+{
+    float fx = sqrtf(dpdx.x * dpdx.x + dpdx.y * dpdx.y + dpdx.z * dpdx.z);
+    float fy = sqrtf(dpdy.x * dpdy.x + dpdy.y * dpdy.y + dpdy.z * dpdy.z);
+    if (isnan(fx) || isnan(fy))
+        return NAN;
+    return fx > fy ? fx : fy;
+}
+
 /* The batch contract of noise.h: n = 0 reads nothing; checks before writes. */
 bg_status bg_fractal3_grad_footprint_batch(const bg_fractal *f, const float *footprint,
                                            const float *x, const float *y, const float *z,

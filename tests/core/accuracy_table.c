@@ -5,7 +5,7 @@
  * error as a function of the step h (the U-curve the default step is chosen
  * from). A measurement, not a test: it never fails on numbers.
  *
- * Usage: accuracy_table [points] [seed]      (defaults 20000, 1) */
+ * Usage: accuracy_table [points] [stream]    (defaults 20000, 1; stream numbers the pseudo-random inputs) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -119,7 +119,7 @@ int main(int argc, char **argv)
     long npts = argc > 1 ? atol(argv[1]) : 20000;
     unsigned long long seed = argc > 2 ? strtoull(argv[2], NULL, 10) : 1;
     if (npts <= 0) {
-        fprintf(stderr, "usage: accuracy_table [points > 0] [seed]\n");
+        fprintf(stderr, "usage: accuracy_table [points > 0] [stream]\n");
         return 2;
     }
     const char *fname[3] = {"noise", "fBm", "turbulence"};
@@ -127,7 +127,7 @@ int main(int argc, char **argv)
                         bg_fractal_default(BG_FUNC_TURBULENCE)};
     const double range = 100;
 
-    printf("bumpgrad %s, %ld random points per row in [-%g, %g]^3, seed %llu; fBm and "
+    printf("bumpgrad %s, %ld random points per row in [-%g, %g]^3, random stream %llu; fBm and "
            "turbulence: %d octaves, lacunarity %g, gain %g.\n"
            "Errors are absolute, against tests/ref (double); gradient error is the largest "
            "component error. Turbulence skips points within %g of a crease.\n\n",

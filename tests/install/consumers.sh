@@ -82,6 +82,14 @@ cmake)
             "$b/io_consumer" "$work"
         fi
     done
+    # The example users copy (examples/cmake), built exactly as its comment says.
+    b=$work/example_cmake
+    echo "== examples/cmake"
+    "$cmake" -S "$src/examples/cmake" -B "$b" -DCMAKE_PREFIX_PATH="$prefix" \
+        -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="$san" \
+        >"$b.log" 2>&1 || { cat "$b.log"; echo "FAIL: cmake configure (examples/cmake)"; exit 1; }
+    "$cmake" --build "$b" >>"$b.log" 2>&1 || { cat "$b.log"; echo "FAIL: build (examples/cmake)"; exit 1; }
+    "$b/bump_normals" 20000
     if [ "$tools" = true ] && [ ! -x "$work/cmake_config/io_consumer" ]; then
         echo "FAIL: bumpgrad_HAVE_IO false in a build with the tools"; exit 1
     fi
@@ -105,6 +113,14 @@ io)
         -Wl,-rpath,"$libdir" -o "$work/io_consumer"
     echo "linked: $(ldd "$work/io_consumer" | grep -o 'libbumpgrad-io[^ ]* => [^ ]*')"
     ( unset BUMPGRAD_IO_MODULE; "$work/io_consumer" "$work" )
+    # examples/volume_io.c, built with the command its own comment gives.
+    ex=$src/examples/volume_io.c
+    ex_libs=$(sed -n 's/^ \*   cc volume_io\.c \$(pkg-config --cflags --libs bumpgrad-io)\(.*\) -o volume_io$/libs:\1/p' "$ex")
+    [ -n "$ex_libs" ] || { echo "FAIL: no build comment in $ex"; exit 1; }
+    # shellcheck disable=SC2086
+    "${CC:-cc}" -std=c11 -Wall -Wextra -Werror $san "$ex" $flags ${ex_libs#libs:} \
+        -Wl,-rpath,"$libdir" -o "$work/volume_io"
+    ( unset BUMPGRAD_IO_MODULE; "$work/volume_io" "$work" 16 )
     # Fail fast and silently (status + message, no stderr) when the module is missing.
     BUMPGRAD_IO_MODULE=$work/no-such-module.so "$work/io_consumer" "$work" missing 2>"$work/stderr"
     if [ -s "$work/stderr" ]; then
@@ -131,6 +147,17 @@ relocate)
         fi
         echo "no installed file names $build_abs or ${installed_prefix#"$dest"}/"
     fi
+    # Man pages (docs/INSTALL.md): man-db finds them through PREFIX/bin on PATH,
+    # or through MANPATH (the trailing colon keeps the system's pages).
+    if command -v man >/dev/null 2>&1 && command -v manpath >/dev/null 2>&1; then
+        page=$(unset MANPATH; PATH=$prefix/bin:$PATH man -w bumpgrad 2>&1) || true
+        [ "$page" = "$prefix/share/man/man1/bumpgrad.1" ] ||
+            { echo "FAIL: man -w bumpgrad with PREFIX/bin on PATH gave '$page'"; exit 1; }
+        page=$(MANPATH=$prefix/share/man: man -w bumpgrad-render 2>&1) || true
+        [ "$page" = "$prefix/share/man/man1/bumpgrad-render.1" ] ||
+            { echo "FAIL: man -w bumpgrad-render with MANPATH gave '$page'"; exit 1; }
+        echo "man finds the moved prefix's pages through PATH and through MANPATH"
+    fi
     [ "$tools" = true ] || { echo "relocate: no tools in this build"; exit 77; }
     cd "$work"
     unset BUMPGRAD_IO_MODULE || true
@@ -153,7 +180,7 @@ python)
     [ -n "$init" ] || { echo "FAIL: the Python package is not installed"; exit 1; }
     site=$(dirname "$(dirname "$init")")
     out=$(cd "$work" && PYTHONPATH=$site "$python" -c \
-        'import bumpgrad, numpy; print(repr(float(bumpgrad.noise3d(numpy.array([[3.14, 42, 7]]))[0])), bumpgrad._c.__file__)')
+        'import bumpgrad, numpy; print(repr(float(bumpgrad.noise3(numpy.array([[3.14, 42, 7]]), dtype=numpy.float64)[0])), bumpgrad._c.__file__)')
     echo "PYTHONPATH=$site: $out"
     case $out in
     "0.13691995878400012 $prefix"/*) ;;

@@ -52,9 +52,14 @@ san=
 if [ -n "${BG_SANITIZE:-}" ] && [ "$BG_SANITIZE" != none ]; then
     san="-fsanitize=$BG_SANITIZE"
 fi
-# -lm: the example calls sqrtf/powf itself, so a user links libm for it anyway.
+# The command the example's own comment gives ("cc FILE $(pkg-config ...) LIBS -o
+# NAME"): its LIBS (-lm: the example calls sqrtf/powf itself) must be enough.
+build_line=$(sed -n 's/^ \*   cc [^ ]*\.c \$(pkg-config --cflags --libs bumpgrad)\(.*\) -o [^ ]*$/libs:\1/p' "$example")
+[ -n "$build_line" ] || { echo "FAIL: no 'cc FILE.c \$(pkg-config --cflags --libs bumpgrad) ... -o NAME' comment in $example"; exit 1; }
+build_line=${build_line#libs:}
+echo "the example's build comment adds:${build_line:- nothing}"
 # shellcheck disable=SC2086
-"$cc" -std=c11 -Wall -Wextra -Werror $san "$example" $flags -lm -o "$work/shade_sphere"
+"$cc" -std=c11 -Wall -Wextra -Werror $san "$example" $flags $build_line -o "$work/shade_sphere"
 echo "compiled $example against the installed tree"
 
 # Run against the installed shared library, not the build tree's.

@@ -41,13 +41,13 @@ def points(n, seed, scale=100.0, dtype=np.float64):
 
 def test_reference():
     want = 0.13691995878400012          # Perlin's Java ImprovedNoise.noise(3.14, 42, 7)
-    got = bumpgrad.noise3d(np.array([[3.14, 42, 7]]))
+    got = bumpgrad.noise3(np.array([[3.14, 42, 7]]), dtype=np.float64)
     check(got.shape == (1,) and got.dtype == np.float64, f"shape/dtype {got.shape} {got.dtype}")
     check(got[0] == want, f"noise3d(3.14, 42, 7) = {got[0]!r}, want {want!r}")
-    one = bumpgrad.noise3d(np.array([3.14, 42, 7]))
+    one = bumpgrad.noise3(np.array([3.14, 42, 7]), dtype=np.float64)
     check(np.ndim(one) == 0 and float(one) == want, f"single point gave {one!r}")
     check(float(ref.noise(3.14, 42, 7)) == want, "the numpy reference misses the point")
-    v, g = bumpgrad.noise3d(np.array([3.14, 42, 7]), grad=True)
+    v, g = bumpgrad.noise3(np.array([3.14, 42, 7]), "analytic", dtype=np.float64)
     check(v == want and g.shape == (3,), f"value with gradient {v!r} {g.shape}")
     print(f"noise3d(3.14, 42, 7) = {got[0]!r} (Perlin: {want!r})")
 
@@ -58,7 +58,7 @@ def test_bounds():
     p = points(4000, 1)
     x, y, z = p[:, 0], p[:, 1], p[:, 2]
     # float64 noise equals Perlin's lerp chain bit for bit (noise.h).
-    v = bumpgrad.noise3d(p)
+    v = bumpgrad.noise3(p, dtype=np.float64)
     check(np.array_equal(v, ref.noise(x, y, z)), "noise3d differs from the reference bits: max "
           f"{np.max(np.abs(v - ref.noise(x, y, z)))}")
     for function in ("noise", "fbm", "turbulence"):
@@ -76,12 +76,12 @@ def test_bounds():
         check(ev <= 1e-5, f"{function} float32 value error {ev:.3g} > 1e-5")
         check(eg <= 5e-5, f"{function} float32 gradient error {eg:.3g} > 5e-5")
         # float64 analytic: a few 1e-15 (ACCURACY.md); checked at 1e-12.
-        dv, dg = bumpgrad.fractal3d(p32.astype(np.float64), function, gradient="analytic")
+        dv, dg = bumpgrad.fractal3(p32.astype(np.float64), function, gradient="analytic")
         edv = np.max(np.abs(dv - rv))
         edg = np.max(np.abs(dg - rg)[keep])
         check(edv <= 1e-12 and edg <= 1e-12, f"{function} float64 errors {edv:.3g} {edg:.3g}")
         # central differences, float64 with a small step: truncation error ~h^2.
-        _, cg = bumpgrad.fractal3d(p32.astype(np.float64), function, gradient="central", step=1e-5)
+        _, cg = bumpgrad.fractal3(p32.astype(np.float64), function, gradient="central", step=1e-5)
         ecg = np.max(np.abs(cg - rg)[keep & (minabs > 1e-3)])
         check(ecg <= 2e-3, f"{function} float64 central gradient error {ecg:.3g}")
         print(f"{function:10s} float32 value {ev:.3g} gradient {eg:.3g}; float64 value {edv:.3g} "
@@ -118,8 +118,7 @@ def test_cli(exe):
             for function in ("noise", "fbm", "turbulence"):
                 for gradient in ("analytic", "central"):
                     cv, cg = run_eval(exe, p, precision, function, gradient, tmp)
-                    f = bumpgrad.fractal3 if precision == "float" else bumpgrad.fractal3d
-                    v, g = f(p, function, gradient=gradient)
+                    v, g = bumpgrad.fractal3(p, function, gradient=gradient, dtype=dtype)
                     bits = lambda a: np.ascontiguousarray(a).view(np.uint8)  # noqa: E731
                     same = (np.array_equal(bits(v), bits(cv)) and
                             np.array_equal(bits(g), bits(cg)))
@@ -129,7 +128,7 @@ def test_cli(exe):
                           f"{'bit-identical' if same else 'DIFFERENT'} over {len(p)} points")
         # The named wrappers are the same calls.
         p = p64.astype(np.float32)
-        v, g = bumpgrad.noise3(p, grad=True)
+        v, g = bumpgrad.noise3(p, "analytic")
         cv, cg = run_eval(exe, p, "float", "noise", "analytic", tmp)
         check(np.array_equal(v, cv) and np.array_equal(g, cg), "noise3 differs from eval")
 
@@ -159,44 +158,73 @@ def test_badinput():
     # dtypes: integers, booleans, complex and objects raise TypeError.
     for bad in (np.zeros((4, 3), np.int32), np.zeros((4, 3), np.int64), np.zeros((4, 3), bool),
                 np.zeros((4, 3), np.complex128), np.zeros((4, 3), object), [[1, 2, 3]]):
-        e = raises(TypeError, bumpgrad.noise3d, bad)
+        e = raises(TypeError, bumpgrad.noise3, bad, dtype=np.float64)
         check(e is None or "floating-point" in str(e), f"message: {e}")
         raises(TypeError, bumpgrad.perturb, bad, good)
     raises(TypeError, bumpgrad.fbm3, (np.zeros(2), np.zeros(2, np.int16), np.zeros(2)))
-    # Lossless conversions are accepted: float16/32 into float64, and float64 into
-    # the float32 functions rounds (the caller asked for float32).
+    # Conversions: float16/32 widen exactly to float64; dtype=float32 rounds
+    # float64 input (the caller asked for float32).
     q = points(50, 3)
-    check(np.array_equal(bumpgrad.noise3d(q.astype(np.float32)),
-                         bumpgrad.noise3d(q.astype(np.float32).astype(np.float64))), "f32->f64")
-    check(np.array_equal(bumpgrad.noise3(q), bumpgrad.noise3(q.astype(np.float32))), "f64->f32")
+    check(np.array_equal(bumpgrad.noise3(q.astype(np.float32), dtype=np.float64),
+                         bumpgrad.noise3(q.astype(np.float32).astype(np.float64))), "f32->f64")
+    check(np.array_equal(bumpgrad.noise3(q, dtype=np.float32),
+                         bumpgrad.noise3(q.astype(np.float32))), "f64->f32")
     check(bumpgrad.noise3(q.astype(np.float16)).dtype == np.float32, "f16 -> float32 result")
-    # Library errors carry bg_status_string's text.
-    e = raises(bumpgrad.Error, bumpgrad.fbm3, good, octaves=0)
-    check(e is not None and e.status == 1 and e.text == bumpgrad._c.status_string(1) and
-          e.text in str(e), f"status text: {e!r}")
-    raises(bumpgrad.Error, bumpgrad.fbm3d, good, octaves=33)
-    raises(bumpgrad.Error, bumpgrad.turbulence3, good, lacunarity=0.0)
-    raises(bumpgrad.Error, bumpgrad.fbm3, good, gain=float("nan"))
-    raises(bumpgrad.Error, bumpgrad.fbm3d, good, gradient="central", step=0.0)
-    raises(bumpgrad.Error, bumpgrad.perturb_height, good, good + [0, 0, 1], amplitude=float("inf"))
-    raises(bumpgrad.Error, bumpgrad.isa_force, "no-such-isa")
-    raises(ValueError, bumpgrad.perturb, good, good, method="sideways")
-    raises(ValueError, bumpgrad.fractal3, good, "perlin")
-    raises(ValueError, bumpgrad.fractal3, good, gradient="forward")
+    # Parameter errors name the argument and the rule.
+    for call, kw, want in (
+            (bumpgrad.fbm3, dict(octaves=0), "octaves must be in 1..32, got 0"),
+            (bumpgrad.fbm3, dict(octaves=33), "octaves must be in 1..32, got 33"),
+            (bumpgrad.turbulence3, dict(lacunarity=0.0), "lacunarity must be > 0, got 0.0"),
+            (bumpgrad.fbm3, dict(gain=float("nan")), "gain must be finite, got nan"),
+            (bumpgrad.fbm3, dict(gradient="central", step=0.0), "step must be > 0, got 0.0"),
+            (bumpgrad.perturb_height, dict(n=good + [0, 0, 1], amplitude=float("nan")),
+             "amplitude must be finite, got nan"),
+            (bumpgrad.perturb_height, dict(n=good + [0, 0, 1], amplitude=[0.1, 0.2, np.inf, 0]),
+             "amplitude must be finite, got inf"),
+            (bumpgrad.perturb, dict(g=good, method="sideways"), "method must be one of"),
+            (bumpgrad.fractal3, dict(function="perlin"), "function must be one of"),
+            (bumpgrad.fractal3, dict(gradient="forward"), "gradient must be one of"),
+            (bumpgrad.noise3, dict(threads=0), "threads must be in 1..1024, got 0"),
+            (bumpgrad.noise3, dict(dtype=np.int32), "dtype must be float32 or float64"),
+            (bumpgrad.perturb_height, dict(n=good, gradient=None), "gradient must be"),
+            (bumpgrad.perturb_height, dict(n=good, dtype=np.float64), "float32 only")):
+        e = raises(ValueError, call, good, **kw)
+        check(e is None or want in str(e), f"{call.__name__}{kw}: message {e!r} lacks {want!r}")
+    # Integer parameters refuse non-integers (2.9 is not silently 2).
+    for call, kw in ((bumpgrad.fbm3, dict(octaves=2.9)), (bumpgrad.fbm3, dict(octaves=3.0)),
+                     (bumpgrad.fbm3, dict(octaves=True)), (bumpgrad.noise3, dict(threads=1.5)),
+                     (bumpgrad.octaves_for_footprint, dict(max_octaves="6"))):
+        arg = good if call is not bumpgrad.octaves_for_footprint else np.zeros(4)
+        e = raises(TypeError, call, arg, **kw)
+        name = next(iter(kw))
+        check(e is None or f"{name} must be an integer" in str(e), f"message {e!r}")
+    check(bumpgrad.fbm3(good, octaves=np.int64(3)).shape == (4,), "numpy integers are integers")
+    # Library errors that are not argument errors raise bumpgrad.Error with the status text.
+    e = raises(bumpgrad.Error, bumpgrad.isa_force, "no-such-isa")
+    check(e is not None and e.text == bumpgrad._c.status_string(e.status) and e.text in str(e),
+          f"status text: {e!r}")
+    # out= of the wrong shape, dtype or a read-only one.
+    raises(ValueError, bumpgrad.noise3, good, out=np.empty(3))
+    raises(ValueError, bumpgrad.noise3, good, out=np.empty(4, np.float32))
+    ro = np.empty(4)
+    ro.flags.writeable = False
+    raises(ValueError, bumpgrad.noise3, good, out=ro)
+    raises(ValueError, bumpgrad.noise3, good, "analytic", out=np.empty(4))
     # NaN policy: the C library's, nothing raises.
     nanp = np.array([[np.nan, 1.0, 2.0], [np.inf, 0.5, 0.5], [0.3, 0.4, 0.5]])
-    for f in (bumpgrad.noise3, bumpgrad.noise3d):
-        v, g = f(nanp, grad=True)
+    for dt in (np.float32, np.float64):
+        v, g = bumpgrad.noise3(nanp, "analytic", dtype=dt)
         check(np.isnan(v[:2]).all() and np.isnan(g[:2]).all() and np.isfinite(v[2]),
-              f"{f.__name__}: NaN/Inf point gives NaN value and gradient, others finite")
+              f"{dt}: NaN/Inf point gives NaN value and gradient, others finite")
     n = np.array([[0, 0, 2.0], [np.nan, 0, 1], [0, 0, 0]])
     g = np.array([[np.nan, 0, 0], [0.1, 0, 0], [0.1, 0, 0]])
-    for f in (bumpgrad.perturb, bumpgrad.perturbd):
-        r = f(n, g)
-        check(np.array_equal(r[0], [0, 0, 1]), f"{f.__name__}: NaN g gives the unit n: {r[0]}")
-        check(np.array_equal(r[1:], np.zeros((2, 3))), f"{f.__name__}: bad n gives 0: {r[1:]}")
+    for dt in (np.float32, np.float64):
+        r = bumpgrad.perturb(n, g, dtype=dt)
+        check(np.array_equal(r[0], [0, 0, 1]), f"{dt}: NaN g gives the unit n: {r[0]}")
+        check(np.array_equal(r[1:], np.zeros((2, 3))), f"{dt}: bad n gives 0: {r[1:]}")
     # Empty batches are fine.
     check(bumpgrad.noise3(np.zeros((0, 3))).shape == (0,), "empty batch")
+    check(bumpgrad.fbm3(np.zeros((0, 3)), gradient="analytic")[1].shape == (0, 3), "empty grad")
 
 
 # ---- API: layouts, strides, copies, docs, version, ISA ---------------------------------------
@@ -234,38 +262,41 @@ def test_api(version):
     check(v5.shape == (4, 8, 8) and g5.shape == (4, 8, 8, 3) and
           np.array_equal(v5.reshape(-1), v[:256]), "(..., 3) batches")
     # Copy-free: contiguous SoA components of the right dtype reach C as they are.
-    comps, _, _ = bumpgrad._vectors((soa[0], soa[1], soa[2]), np.dtype(np.float32), "p")
-    check(all(np.shares_memory(c, s) for c, s in zip(comps, soa)), "SoA input copied")
-    comps, _, _ = bumpgrad._vectors(p.astype(np.float64), np.dtype(np.float32), "p")
-    check(all(c.dtype == np.float32 and c.flags.c_contiguous for c in comps), "converted")
+    comps, shape, _ = bumpgrad._split((soa[0], soa[1], soa[2]), "p")
+    flat = [bumpgrad._flat(c, shape, np.dtype(np.float32)) for c in comps]
+    check(all(np.shares_memory(c, s) for c, s in zip(flat, soa)), "SoA input copied")
+    comps, shape, _ = bumpgrad._split(p.astype(np.float64), "p")
+    flat = [bumpgrad._flat(c, shape, np.dtype(np.float32)) for c in comps]
+    check(all(c.dtype == np.float32 and c.flags.c_contiguous for c in flat), "converted")
     check(gx.base is not None and gx.base is gy.base, "three-array results: rows of one block")
     # The single-point C API through the loops: triplanar and tangent normals agree
     # between float and double to float rounding, and between layouts exactly.
     rng = np.random.default_rng(5)
     n = rng.normal(size=(100, 3))
     d = [rng.normal(size=(100, 2)) for _ in range(3)]
-    t32 = bumpgrad.surfgrad_triplanar(n, 4.0, *d)
-    t64 = bumpgrad.surfgrad_triplanard(n, 4.0, *d)
+    t32 = bumpgrad.surfgrad_triplanar(n, 4.0, *d, dtype=np.float32)
+    t64 = bumpgrad.surfgrad_triplanar(n, 4.0, *d)
     check(np.max(np.abs(t32 - t64)) < 1e-5, "triplanar float vs double")
-    w = bumpgrad.triplanar_weightsd(n, 4.0)
+    w = bumpgrad.triplanar_weights(n, 4.0)
     check(np.allclose(w.sum(-1), 1.0, atol=1e-12), "triplanar weights sum to 1")
     # Resolve: the unit n with no influence, and linear in the influences.
     un = n / np.linalg.norm(n, axis=1, keepdims=True)
-    check(np.allclose(bumpgrad.resolve_normald(n), un, atol=1e-15), "resolve with nothing")
-    sg = bumpgrad.surface_gradientd(n, rng.normal(size=(100, 3)))
-    r2 = bumpgrad.resolve_normald(n, sg, sg, weights=[0.25, 0.75])
-    check(np.allclose(r2, bumpgrad.resolve_normald(n, sg), atol=1e-12), "resolve weights")
-    check(np.max(np.abs(bumpgrad.resolve_normal(n, sg, sg, weights=[0.25, 0.75]) - r2)) < 1e-5,
+    check(np.allclose(bumpgrad.resolve_normal(n), un, atol=1e-15), "resolve with nothing")
+    sg = bumpgrad.surface_gradient(n, rng.normal(size=(100, 3)))
+    r2 = bumpgrad.resolve_normal(n, sg, sg, weights=[0.25, 0.75])
+    check(np.allclose(r2, bumpgrad.resolve_normal(n, sg), atol=1e-12), "resolve weights")
+    check(np.max(np.abs(bumpgrad.resolve_normal(n, sg, sg, weights=[0.25, 0.75],
+                                                dtype=np.float32) - r2)) < 1e-5,
           "resolve float vs double")
     # The surfgrad perturbation equals the resolve of the surface gradient (eq. 4).
     gg = rng.normal(size=(100, 3))
-    check(np.allclose(bumpgrad.perturbd(un, gg),
-                      bumpgrad.resolve_normald(un, bumpgrad.surface_gradientd(un, gg)),
+    check(np.allclose(bumpgrad.perturb(un, gg),
+                      bumpgrad.resolve_normal(un, bumpgrad.surface_gradient(un, gg)),
                       atol=1e-12), "perturb == resolve(surface_gradient)")
     # Object-space normal round trip: normalize(n - g(m)) == normalize(m) for m.n > 0.
     m = un + 0.3 * rng.normal(size=(100, 3))
     m[np.sum(m * un, 1) <= 0.1] = un[np.sum(m * un, 1) <= 0.1]
-    back = bumpgrad.resolve_normald(un, bumpgrad.surfgrad_from_perturbed_normald(un, m))
+    back = bumpgrad.resolve_normal(un, bumpgrad.surfgrad_from_perturbed_normal(un, m))
     check(np.allclose(back, m / np.linalg.norm(m, axis=1, keepdims=True), atol=1e-9),
           "object-space round trip")
     # Fused height -> normal equals perturbing with the height gradient.

@@ -1,0 +1,375 @@
+/* SPDX-License-Identifier: MIT */
+/* The tools as Python calls (tools builds only; included by _bumpgrad.c):
+ * bgt_mesh_run through its face (mesh/mesh_tool.h) and bg_image_read. The
+ * Python layer (__init__.py) checks the arguments and turns results into
+ * arrays. Tool errors raise bumpgrad.Error(status, text, message). */
+#include <stdatomic.h>
+
+#include "bumpgrad/image.h"
+#include "bumpgrad/volume.h"
+#include "common/tool.h"
+#include "height_source.h"
+#include "bake/heightmap.h"
+#include "bake/volume.h"
+#include "mesh/mesh_tool.h"
+
+static PyObject *raise_tool(bg_status s, const bgt_err *e)
+{
+    PyObject *type = error_type ? error_type : PyExc_RuntimeError;
+    PyObject *args = Py_BuildValue("(iss)", (int)s, bg_status_string(s), e->msg);
+    if (args) {
+        PyErr_SetObject(type, args);
+        Py_DECREF(args);
+    }
+    return NULL;
+}
+
+/* Progress to a Python callable progress(done, total), from the tool's
+ * workers: at most about 100 calls per run, each with the GIL taken. An
+ * exception in the callback stops further calls and is raised after the run. */
+typedef struct py_progress {
+    PyObject *cb;
+    size_t total;
+    atomic_size_t next; /* the next `done` worth a call */
+    atomic_int failed;
+    PyObject *exc;      /* the callback's exception (type, value, traceback) */
+    PyObject *exc_value, *exc_tb;
+} py_progress;
+
+static void progress_call(py_progress *p, size_t done)
+{
+    PyGILState_STATE g = PyGILState_Ensure();
+    if (!atomic_load(&p->failed)) {
+        PyObject *r = PyObject_CallFunction(p->cb, "nn", (Py_ssize_t)done, (Py_ssize_t)p->total);
+        if (!r) {
+            atomic_store(&p->failed, 1);
+            PyErr_Fetch(&p->exc, &p->exc_value, &p->exc_tb);
+        }
+        Py_XDECREF(r);
+    }
+    PyGILState_Release(g);
+}
+
+static void progress_begin(void *ctx, const char *label, size_t total)
+{
+    (void)label;
+    py_progress *p = ctx;
+    p->total = total;
+    atomic_store(&p->next, 0);
+    progress_call(p, 0);
+    atomic_store(&p->next, total / 100 + 1);
+}
+
+static void progress_update(void *ctx, size_t done)
+{
+    py_progress *p = ctx;
+    size_t want = atomic_load(&p->next);
+    if (done < want || atomic_load(&p->failed))
+        return;
+    if (!atomic_compare_exchange_strong(&p->next, &want, done + p->total / 100 + 1))
+        return; /* another worker reports this step */
+    progress_call(p, done);
+}
+
+static void progress_end(void *ctx)
+{
+    py_progress *p = ctx;
+    progress_call(p, p->total);
+}
+
+/* mesh_bake(input, path, width, height, function, octaves, lacunarity, gain, amplitude,
+ *           frequency, gradient, step, method, space, padding, tangents, green_down,
+ *           recompute_normals, depth, threads, progress|None)
+ * -> (covered, padded, skipped, islands, [udim tiles]) */
+static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *input, *path;
+    int width, height, function, octaves, gradient, method, space, padding, tangents, green_down;
+    int recompute, depth, threads;
+    float lac, gain, amp, freq, step;
+    PyObject *cb;
+    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO", &input, &path, &width, &height,
+                          &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
+                          &method, &space, &padding, &tangents, &green_down, &recompute, &depth,
+                          &threads, &cb))
+        return NULL;
+    bgt_height h;
+    bgt_height_init(&h);
+    h.h.fractal.function = (bg_function)function;
+    h.h.fractal.octaves = octaves;
+    h.h.fractal.lacunarity = lac;
+    h.h.fractal.gain = gain;
+    h.h.amplitude = amp;
+    h.h.frequency = freq;
+    h.h.gradient = (bg_gradient_mode)gradient;
+    h.h.step = step;
+    bgt_mesh_opts o;
+    memset(&o, 0, sizeof o);
+    o.input = input;
+    o.bake_path = path;
+    o.height = &h;
+    o.method = (bg_perturb_method)method;
+    o.threads = threads;
+    o.join = BG_MESH_JOIN_AUTO;
+    o.recompute_normals = recompute;
+    o.bake.width = width;
+    o.bake.height = height;
+    o.bake.space = (mesh_bake_space)space;
+    o.bake.padding = padding;
+    o.bake.tangents = (mesh_tangent_source)tangents;
+    o.bake.green_down = green_down;
+    o.bake_depth = depth;
+    py_progress pp = {.cb = cb};
+    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
+    if (cb != Py_None)
+        o.progress = &sink;
+    bgt_mesh_result r;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_mesh_run(&o, &r, &e);
+    Py_END_ALLOW_THREADS
+    if (pp.exc) {
+        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+        return NULL;
+    }
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    PyObject *tiles = PyList_New((Py_ssize_t)r.bake.tiles);
+    if (!tiles)
+        return NULL;
+    for (size_t i = 0; i < r.bake.tiles; i++)
+        PyList_SET_ITEM(tiles, (Py_ssize_t)i, PyLong_FromLong(r.bake.tile_udim[i]));
+    return Py_BuildValue("(nnnnN)", (Py_ssize_t)r.bake.covered, (Py_ssize_t)r.bake.padded,
+                         (Py_ssize_t)r.bake.skipped, (Py_ssize_t)r.bake.islands, tiles);
+}
+
+/* read_image(path) -> float32 array (height, width, channels), as the file holds it
+ * (8/16-bit integers mapped to [0, 1]). */
+static PyObject *py_read_image(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *path;
+    if (!PyArg_ParseTuple(args, "s", &path))
+        return NULL;
+    bg_image img;
+    memset(&img, 0, sizeof img);
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_io_ready(&e);
+    if (s == BG_OK)
+        s = bg_image_read(path, &img, e.msg, sizeof e.msg);
+    Py_END_ALLOW_THREADS
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    npy_intp dims[3] = {img.height, img.width, img.channels};
+    PyObject *a = PyArray_SimpleNew(3, dims, NPY_FLOAT32);
+    if (a)
+        memcpy(PyArray_DATA((PyArrayObject *)a), img.pixels,
+               (size_t)img.width * (size_t)img.height * (size_t)img.channels * sizeof(float));
+    bg_image_free(&img);
+    return a;
+}
+
+/* write_image(path, array float32 (h, w, c) C-contiguous, pixel type, srgb) */
+static PyObject *py_write_image(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *path;
+    PyObject *o;
+    int type, srgb;
+    if (!PyArg_ParseTuple(args, "sOii", &path, &o, &type, &srgb))
+        return NULL;
+    if (!PyArray_Check(o) || PyArray_TYPE((PyArrayObject *)o) != NPY_FLOAT32 ||
+        PyArray_NDIM((PyArrayObject *)o) != 3 || !PyArray_ISCARRAY_RO((PyArrayObject *)o)) {
+        PyErr_SetString(PyExc_TypeError, "bumpgrad: internal: write_image needs a C-contiguous "
+                                         "float32 (h, w, c) array");
+        return NULL;
+    }
+    PyArrayObject *a = (PyArrayObject *)o;
+    bg_image img = {.width = (int)PyArray_DIM(a, 1), .height = (int)PyArray_DIM(a, 0),
+                    .channels = (int)PyArray_DIM(a, 2), .pixels = PyArray_DATA(a)};
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_io_ready(&e);
+    if (s == BG_OK)
+        s = bg_image_write(path, &img, (bg_pixel_type)type, srgb, e.msg, sizeof e.msg);
+    Py_END_ALLOW_THREADS
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    Py_RETURN_NONE;
+}
+
+/* heightmap(input, output, gray, strength, wrap, y_down, to_derivative, bits) */
+static PyObject *py_heightmap(PyObject *self, PyObject *args)
+{
+    (void)self;
+    bgt_heightmap_opts o;
+    memset(&o, 0, sizeof o);
+    int gray;
+    if (!PyArg_ParseTuple(args, "ssifiiii", &o.input, &o.output, &gray, &o.strength, &o.wrap,
+                          &o.y_down, &o.to_derivative, &o.bits))
+        return NULL;
+    o.gray = (bgt_gray)gray;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_heightmap_run(&o, &e);
+    Py_END_ALLOW_THREADS
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    Py_RETURN_NONE;
+}
+
+/* volume_bake(output, x0, y0, z0, x1, y1, z1, voxel, band (cx, cy, cz, r, w) | None, function,
+ *             octaves, lacunarity, gain, amplitude, frequency, step, gradient, threads,
+ *             progress|None) -> (voxels, (lo), (hi)) */
+static PyObject *py_volume_bake(PyObject *self, PyObject *args)
+{
+    (void)self;
+    bgt_volume_opts o;
+    memset(&o, 0, sizeof o);
+    PyObject *band, *cb;
+    int function, octaves, gradient;
+    float lac, gain, amp, freq, step;
+    if (!PyArg_ParseTuple(args, "sdddddddOiifffffiiO", &o.output, &o.bbox[0], &o.bbox[1],
+                          &o.bbox[2], &o.bbox[3], &o.bbox[4], &o.bbox[5], &o.voxel, &band,
+                          &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
+                          &o.threads, &cb))
+        return NULL;
+    if (band != Py_None) {
+        if (!PyArg_ParseTuple(band, "ddddd", &o.band[0], &o.band[1], &o.band[2], &o.band[3],
+                              &o.band[4]))
+            return NULL;
+        o.have_band = 1;
+    }
+    bgt_height h;
+    bgt_height_init(&h);
+    h.h.fractal.function = (bg_function)function;
+    h.h.fractal.octaves = octaves;
+    h.h.fractal.lacunarity = lac;
+    h.h.fractal.gain = gain;
+    h.h.amplitude = amp;
+    h.h.frequency = freq;
+    h.h.gradient = (bg_gradient_mode)gradient;
+    h.h.step = step;
+    o.height = &h;
+    py_progress pp = {.cb = cb};
+    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
+    if (cb != Py_None)
+        o.progress = &sink;
+    bgt_volume_result r;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_volume_run(&o, &r, &e);
+    Py_END_ALLOW_THREADS
+    if (pp.exc) {
+        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+        return NULL;
+    }
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    return Py_BuildValue("(K(LLL)(LLL))", (unsigned long long)r.voxels, r.lo[0], r.lo[1], r.lo[2],
+                         r.hi[0], r.hi[1], r.hi[2]);
+}
+
+/* The tools' height source (height_source.h) on SoA points, over threads. */
+static void height_field_range(const job *j, size_t b, size_t e)
+{
+    bgt_height_gradient(j->aux[0], (float *)j->in[0] + b, (float *)j->in[1] + b,
+                        (float *)j->in[2] + b, e - b, (float *)j->out[0] + b,
+                        (float *)j->out[1] + b, (float *)j->out[2] + b, (float *)j->out[3] + b);
+}
+
+/* height_field(function, octaves, lacunarity, gain, amplitude, frequency, step, gradient,
+ *              threads, x, y, z, height, gx, gy, gz): bgt_height_gradient, the
+ * function `bumpgrad volume` bakes (the fractal height; no grid). */
+static PyObject *py_height_field(PyObject *self, PyObject *args)
+{
+    (void)self;
+    int function, octaves, gradient, threads;
+    float lac, gain, amp, freq, step;
+    PyObject *o[7];
+    if (!PyArg_ParseTuple(args, "iifffffiiOOOOOOO", &function, &octaves, &lac, &gain, &amp,
+                          &freq, &step, &gradient, &threads, &o[0], &o[1], &o[2], &o[3], &o[4],
+                          &o[5], &o[6]))
+        return NULL;
+    bgt_height h;
+    bgt_height_init(&h);
+    h.h.fractal.function = (bg_function)function;
+    h.h.fractal.octaves = octaves;
+    h.h.fractal.lacunarity = lac;
+    h.h.fractal.gain = gain;
+    h.h.amplitude = amp;
+    h.h.frequency = freq;
+    h.h.gradient = (bg_gradient_mode)gradient;
+    h.h.step = step;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s = bgt_height_open(&h, &e);
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    job j = {.run = height_field_range};
+    j.aux[0] = &h;
+    bufs B = {.count = 0};
+    Py_ssize_t n = -1;
+    PyObject *r = NULL;
+    if (getn(&B, o, j.in, 3, 'f', &n, 0, 0) && getn(&B, o + 3, j.out, 4, 'f', &n, 1, 0))
+        r = finish(&B, &j, n, threads);
+    else
+        release(&B);
+    bgt_height_close(&h);
+    return r;
+}
+
+/* vdb_sample(path, grid|None, x, y, z, height) float32: bg_vdb_height_sample_batch. */
+static PyObject *py_vdb_sample(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *path, *grid;
+    PyObject *o[4];
+    if (!PyArg_ParseTuple(args, "szOOOO", &path, &grid, &o[0], &o[1], &o[2], &o[3]))
+        return NULL;
+    bufs B = {.count = 0};
+    Py_ssize_t n = -1;
+    void *in[3], *out[1];
+    if (!getn(&B, o, in, 3, 'f', &n, 0, 0) || !getn(&B, o + 3, out, 1, 'f', &n, 1, 0)) {
+        release(&B);
+        return NULL;
+    }
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    bg_vdb_height *v = NULL;
+    s = bgt_io_ready(&e);
+    if (s == BG_OK)
+        s = bg_vdb_height_open(path, grid, &v, e.msg, sizeof e.msg);
+    if (s == BG_OK) {
+        bg_vdb_height_sample_batch(v, in[0], in[1], in[2], (size_t)n, out[0], NULL, NULL, NULL);
+        bg_vdb_height_close(v);
+    }
+    Py_END_ALLOW_THREADS
+    release(&B);
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    Py_RETURN_NONE;
+}
+
+#define TOOLS_PY_METHODS                                                                          \
+    {"mesh_bake", py_mesh_bake, METH_VARARGS, NULL},                                              \
+        {"read_image", py_read_image, METH_VARARGS, NULL},                                        \
+        {"write_image", py_write_image, METH_VARARGS, NULL},                                      \
+        {"heightmap", py_heightmap, METH_VARARGS, NULL},                                          \
+        {"volume_bake", py_volume_bake, METH_VARARGS, NULL},                                      \
+        {"vdb_sample", py_vdb_sample, METH_VARARGS, NULL},                                        \
+        {"height_field", py_height_field, METH_VARARGS, NULL},
