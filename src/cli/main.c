@@ -6,6 +6,8 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
+#include "common/env.h"
+#include "common/safe_file.h"
 #include "kernels/kernels.h" /* bg_isa_list: the levels dispatch knows */
 
 /* The subcommand table, in the order `bumpgrad --help` lists them.
@@ -82,6 +84,9 @@ static void main_help(FILE *fp)
           "                library)\n"
           "  BUMPGRAD_FONT  font of the render panels' labels (a name or a .ttf path);\n"
           "                BUMPGRAD_BITMAP_FONT (set to anything) uses the built-in 5x7 font\n"
+          "  BUMPGRAD_TEXTURES_UNDER  a folder: render --mesh uses material textures\n"
+          "                only from inside it (for untrusted meshes)\n"
+          "A bad value of any of these is an error (exit 2) naming the variable.\n"
           "\n"
           "Exit status: 0 success, 1 runtime failure (I/O, memory), 2 bad input or usage,\n"
           "3 `render --compare --fail-above DEG` found a mean error above DEG.\n",
@@ -326,6 +331,10 @@ static int dispatch(int argc, char **argv)
         char msg[256];
         rc = bg_isa_env_status(msg, sizeof msg) == BG_OK ? 0 : cli_usage_error(NULL, "%s", msg);
     }
+    /* Every other BUMPGRAD_* variable, strictly, before any work (exit 2). */
+    bgt_err env_err;
+    if (!rc && bgt_env_check(&env_err) != BG_OK)
+        rc = cli_usage_error(NULL, "%s", env_err.msg);
     if (rc) {
         free(cargv);
         return rc;
@@ -361,8 +370,20 @@ static int dispatch(int argc, char **argv)
     return CLI_OK;
 }
 
+/* A library that calls exit() in the middle of a write (libjpeg on a full
+ * disk) gets a message and a failure status; safe_file.c has removed the
+ * temporaries already. */
+static int exit_during_write(const char *target)
+{
+    fflush(stdout);
+    return cli_fail(NULL, "writing %s failed inside a third-party library, which ended the "
+                          "process; the old file, if any, is kept and no temporary is left",
+                    target);
+}
+
 int main(int argc, char **argv)
 {
+    bgt_safe_on_exit_during_write(exit_during_write);
     int rc = dispatch(argc, argv);
     /* Summaries, help, --version and stats lines lost to a full disk or a
      * closed stdout must not pass as success: stdio reports the error only when

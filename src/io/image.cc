@@ -31,7 +31,6 @@
 #include <unistd.h>
 
 #include "io_util.h"
-#include "common/tool.h"
 
 using namespace OIIO;
 
@@ -56,13 +55,15 @@ static bg_status read_stdin(std::vector<unsigned char> *buf, char *err, size_t e
     for (;;) {
         if (used == buf->size()) {
             const size_t want = std::max<size_t>(size_t(1) << 16, 2 * buf->size());
-            bgt_err cap_err;
-            if (bgt_check_alloc(static_cast<double>(want), "reading an image from standard input",
-                                &cap_err) != BG_OK) {
-                const size_t cap = bgt_memory_cap();
-                if (used >= cap) {
+            char cap_err[1024];
+            const bg_status cs = bg_io_check_alloc(static_cast<double>(want),
+                                                   "reading an image from standard input",
+                                                   cap_err, sizeof cap_err);
+            if (cs != BG_OK) {
+                const size_t cap = bg_io_memory_cap();
+                if (used >= cap || cs != BG_ERR_INVALID_ARGUMENT) {
                     bg_io_set_error(err, errlen, "<stdin>: more than %zu bytes: %s", used,
-                                    cap_err.msg);
+                                    cap_err);
                     return BG_ERR_INVALID_ARGUMENT;
                 }
                 buf->resize(cap); // the last growth stops at the cap itself
@@ -192,10 +193,10 @@ static bg_status check_bmp_header(const unsigned char *h, size_t n, const std::s
     }
     const double w = std::fabs(static_cast<double>(static_cast<int32_t>(u32(18))));
     const double hh = std::fabs(static_cast<double>(static_cast<int32_t>(u32(22))));
-    bgt_err cap_err;
-    if (bgt_check_alloc(w * hh, "decoding its RLE data", &cap_err) != BG_OK) {
+    char cap_err[1024];
+    if (bg_io_check_alloc(w * hh, "decoding its RLE data", cap_err, sizeof cap_err) != BG_OK) {
         bg_io_set_error(err, errlen, "%s: %.0fx%.0f RLE%u BMP: %s", name.c_str(), w, hh, rle,
-                        cap_err.msg);
+                        cap_err);
         return BG_ERR_FORMAT;
     }
     return BG_OK;
@@ -281,15 +282,15 @@ static bg_status read_impl(const char *path, const char *format, bg_image *out, 
         need = pixels * float_pixel +
                tiles_x * tile * (2.0 * static_cast<double>(spec.pixel_bytes(true)) + float_pixel);
     }
-    bgt_err cap_err;
-    if (bgt_check_alloc(need, "reading the image", &cap_err) != BG_OK) {
+    char cap_err[1024];
+    if (bg_io_check_alloc(need, "reading the image", cap_err, sizeof cap_err) != BG_OK) {
         if (spec.tile_width > 0)
             bg_io_set_error(err, errlen, "%s: %dx%d with %d channels in %dx%d tiles: %s",
                             name.c_str(), spec.width, spec.height, spec.nchannels,
-                            spec.tile_width, spec.tile_height, cap_err.msg);
+                            spec.tile_width, spec.tile_height, cap_err);
         else
             bg_io_set_error(err, errlen, "%s: %dx%d with %d channels: %s", name.c_str(),
-                            spec.width, spec.height, spec.nchannels, cap_err.msg);
+                            spec.width, spec.height, spec.nchannels, cap_err);
         return BG_ERR_FORMAT;
     }
     bg_image img;

@@ -30,6 +30,10 @@
 #include "bumpgrad/mesh.h"
 #include "bumpgrad/volume.h"
 #include "io_paths.h" /* relative paths only: BG_IO_MODULE_NAME, BG_IO_BINDIR_TO_LIBDIR, BG_IO_BUILD_SUBDIR */
+#include "io_host.h"
+#include "common/env.h"
+#include "common/safe_file.h"
+#include <sys/stat.h>
 
 static void *module;
 static char load_error[3072];
@@ -59,6 +63,63 @@ static void note(const char *a, const char *b)
         append(load_error, sizeof load_error, b);
 }
 
+/* ---- the host services lent to the module (io_host.h) ----------------------
+ * The one copy of the safe writer, the cap and the variables in this process
+ * (src/tools/common, linked into this loader), with bgt_err turned into the
+ * module's err/errlen buffers. */
+static void copy_err(const bgt_err *e, char *err, size_t errlen)
+{
+    if (err && errlen) {
+        err[0] = '\0';
+        append(err, errlen, e->msg);
+    }
+}
+
+static char *host_temp_path(const char *path, char *err, size_t errlen)
+{
+    bgt_err e;
+    bgt_err_clear(&e);
+    char *t = bgt_safe_temp_path(path, &e);
+    if (!t)
+        copy_err(&e, err, errlen);
+    return t;
+}
+
+static int host_commit_path(const char *tmp, const char *path, char *err, size_t errlen)
+{
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s = bgt_safe_commit_path(tmp, path, &e);
+    if (s != BG_OK)
+        copy_err(&e, err, errlen);
+    return s;
+}
+
+static int host_check_alloc(double bytes, const char *what, char *err, size_t errlen)
+{
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s = bgt_check_alloc(bytes, what, &e);
+    if (s != BG_OK)
+        copy_err(&e, err, errlen);
+    return s;
+}
+
+static int host_env_uint(const char *name, unsigned long long *out, char *err, size_t errlen)
+{
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s = bgt_env_uint(name, out, &e);
+    if (s != BG_OK)
+        copy_err(&e, err, errlen);
+    return s;
+}
+
+static const bg_io_host host_services = {
+    BG_IO_HOST_VERSION, host_temp_path, host_commit_path, bgt_safe_discard_path, free,
+    host_check_alloc, bgt_memory_cap, host_env_uint,
+};
+
 /* dlopen `path` (if only_if_present, only when the file exists); 1 when loaded.
  * A missing file is only noted by the caller's list of searched places, a
  * present but unloadable one with dlerror (that is the message a user needs:
@@ -71,8 +132,17 @@ static int try_open(const char *path, int only_if_present)
      * the program's namespace. RTLD_NOW: a broken module fails here, at one
      * place with one message, not at some later call. */
     module = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (module)
-        return 1;
+    if (module) {
+        bg_io_attach_fn attach;
+        void *sym = dlsym(module, BG_IO_ATTACH_SYMBOL);
+        memcpy(&attach, &sym, sizeof attach);
+        if (sym && attach(&host_services) == 0)
+            return 1;
+        dlclose(module);
+        module = NULL;
+        note(path, ": an I/O module from another build (its host interface differs)");
+        return 0;
+    }
     const char *e = dlerror();
     note(e ? e : path, NULL);
     return 0;
@@ -126,6 +196,13 @@ static void load_module(void)
 {
     const char *env = getenv("BUMPGRAD_IO_MODULE");
     if (env && *env) {
+        /* dlopen would block for ever on a FIFO and fail obscurely on a folder. */
+        struct stat st;
+        if (stat(env, &st) != 0 || !S_ISREG(st.st_mode)) {
+            note(env, stat(env, &st) != 0 ? ": no such file" : ": not a regular file");
+            note("the path came from $BUMPGRAD_IO_MODULE", NULL);
+            return;
+        }
         if (!try_open(env, 0))
             note("the path came from $BUMPGRAD_IO_MODULE", NULL);
         return;

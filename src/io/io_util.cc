@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "io_util.h"
-#include "common/safe_file.h"
+#include "io_host.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -108,50 +108,77 @@ size_t bg_io_write_all(int fd, const void *p, size_t n)
 
 size_t bg_io_read_all(int fd, void *p, size_t n) { return transfer(fd, static_cast<char *>(p), n, false); }
 
-// The temporary-file protocol is src/tools/common/safe_file.c, the same code
-// the C tools use (compiled into this module too): one rule for the new
-// file's mode, for non-regular targets and for the signal-time cleanup.
-static bg_status from_tool(bg_status st, const bgt_err &e, char *err, size_t errlen)
+// The process-wide services come from the program (or libbumpgrad-io.so) that
+// loaded this module: io_loader.c attaches them before any other call
+// (io_host.h). The module compiles none of them, so a process has one
+// registry of temporaries, one set of signal handlers and one memory cap.
+static const bg_io_host *host;
+
+extern "C" int bg_io_module_attach(const bg_io_host *h)
 {
-    if (st != BG_OK)
-        bg_io_set_error(err, errlen, "%s", e.msg);
-    return st;
+    if (!h || h->version != BG_IO_HOST_VERSION)
+        return -1;
+    host = h;
+    return 0;
+}
+
+static bool no_host(char *err, size_t errlen)
+{
+    if (host)
+        return false;
+    bg_io_set_error(err, errlen, "the I/O module was loaded without its host services "
+                                 "(load it through libbumpgrad-io, not dlopen)");
+    return true;
 }
 
 bg_status bg_io_make_temp(const char *path, std::string *tmp, char *err, size_t errlen)
 {
-    bgt_err e;
-    char *t = bgt_safe_temp_path(path, &e);
+    if (no_host(err, errlen))
+        return BG_ERR_IO;
+    char *t = host->temp_path(path, err, errlen);
     if (!t)
-        return from_tool(e.status, e, err, errlen);
+        return err && *err && std::strstr(err, "out of memory") ? BG_ERR_OUT_OF_MEMORY : BG_ERR_IO;
     tmp->assign(t);
-    std::free(t);
+    host->release(t);
     return BG_OK;
 }
 
-void bg_io_discard_temp(const std::string &tmp) { bgt_safe_discard_path(tmp.c_str()); }
+void bg_io_discard_temp(const std::string &tmp)
+{
+    if (host)
+        host->discard_path(tmp.c_str());
+}
 
 bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen)
 {
-    bgt_err e;
-    return from_tool(bgt_safe_commit_path(tmp.c_str(), path, &e), e, err, errlen);
+    if (no_host(err, errlen))
+        return BG_ERR_IO;
+    return static_cast<bg_status>(host->commit_path(tmp.c_str(), path, err, errlen));
 }
+
+bg_status bg_io_check_alloc(double bytes, const char *what, char *err, size_t errlen)
+{
+    if (no_host(err, errlen))
+        return BG_ERR_IO;
+    return static_cast<bg_status>(host->check_alloc(bytes, what, err, errlen));
+}
+
+size_t bg_io_memory_cap(void) { return host ? host->memory_cap() : 0; }
 
 // ---- child processes (mesh import, VDB probe) ----------------------------
 
 size_t bg_io_child_memory_cap(const char *path, const char *env_name)
 {
-    const char *env = std::getenv(env_name);
     struct stat st;
     uint64_t file = stat(path, &st) == 0 && st.st_size > 0 ? static_cast<uint64_t>(st.st_size) : 0;
     uint64_t extra = std::max<uint64_t>(uint64_t(2) << 30, file * 256);
-    if (env && *env) {
-        char *end;
-        unsigned long long mb = std::strtoull(env, &end, 10);
-        if (*end == 0)
-            extra = mb << 20;
-        if (*end == 0 && mb == 0)
+    // Read strictly (env.c); a bad value was refused by the CLI before any
+    // work, and for a library caller it leaves the computed cap, never none.
+    unsigned long long mb = ~0ull;
+    if (host && host->env_uint(env_name, &mb, nullptr, 0) == BG_OK && mb != ~0ull) {
+        if (mb == 0)
             return 0;
+        extra = static_cast<uint64_t>(mb) << 20;
     }
     // The mappings the process already has (libraries, the caller's data).
     FILE *f = std::fopen("/proc/self/statm", "r");
@@ -168,18 +195,47 @@ size_t bg_io_child_memory_cap(const char *path, const char *env_name)
 
 unsigned bg_io_child_timeout(void)
 {
-    const char *env = std::getenv("BUMPGRAD_CHILD_TIMEOUT");
-    if (env && *env) {
-        char *end;
-        unsigned long v = std::strtoul(env, &end, 10);
-        if (*end == 0 && v > 0 && v < 86400)
-            return static_cast<unsigned>(v);
-    }
-    return 60;
+    unsigned long long v = 60;
+    if (!host || host->env_uint("BUMPGRAD_CHILD_TIMEOUT", &v, nullptr, 0) != BG_OK)
+        v = 60;
+    return static_cast<unsigned>(v);
 }
+
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/common_interface_defs.h>
+// Under AddressSanitizer, a child that runs into its address-space cap does
+// not get a NULL or a std::bad_alloc: ASan's own allocator reports "out of
+// memory" (or fails to map its internal memory) and ends the child with
+// status 1, which the parent would read as a corrupt file. ASan calls this
+// just before it ends the process: if the child's address space is within
+// 64 MiB of its cap, it was stopped by the cap, and says so with the same
+// status as a std::bad_alloc in a build without the sanitizer.
+static size_t child_cap;
+static void child_death_check(void)
+{
+    // No stdio and no allocation here: the allocator is what just failed
+    // (an fopen here deadlocked the child until its time-out).
+    char buf[64];
+    const int fd = ::open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return;
+    const ssize_t n = ::read(fd, buf, sizeof buf - 1);
+    ::close(fd);
+    uint64_t pages = 0;
+    for (ssize_t i = 0; i < n && buf[i] >= '0' && buf[i] <= '9'; ++i)
+        pages = pages * 10 + static_cast<uint64_t>(buf[i] - '0');
+    const uint64_t size = pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE));
+    if (n > 0 && child_cap && size + (uint64_t(64) << 20) >= child_cap)
+        _exit(BG_IO_CHILD_OVER_CAP);
+}
+#endif
 
 void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s)
 {
+#if defined(__SANITIZE_ADDRESS__)
+    child_cap = mem_cap;
+    __sanitizer_set_death_callback(child_death_check);
+#endif
     // Die with the parent: an orphaned importer stuck in a loop would
     // otherwise run at 100% CPU forever. (The parent may already be gone.)
     prctl(PR_SET_PDEATHSIG, SIGKILL);

@@ -97,6 +97,12 @@ BG_IO_HIDDEN void bg_io_discard_temp(const std::string &tmp);
  * onto `path`. On failure removes it and returns BG_ERR_IO. */
 BG_IO_HIDDEN bg_status bg_io_commit_temp(const std::string &tmp, const char *path, char *err, size_t errlen);
 
+/* The one allocation cap of the process (BUMPGRAD_MAX_MB, tool.h), through
+ * the host: BG_OK, or an error with the message in err. */
+BG_IO_HIDDEN bg_status bg_io_check_alloc(double bytes, const char *what, char *err, size_t errlen);
+/* The cap in bytes (SIZE_MAX: none). */
+BG_IO_HIDDEN size_t bg_io_memory_cap(void);
+
 /* ---- child processes (the mesh import, the VDB probe) ----
  * Address-space cap for a child reading `path`: the mappings the process has
  * now plus max(2 GiB, 256 x the file size), or env_name in MiB (0 = none). */
@@ -104,7 +110,10 @@ BG_IO_HIDDEN size_t bg_io_child_memory_cap(const char *path, const char *env_nam
 /* Seconds a child may run: BUMPGRAD_CHILD_TIMEOUT, default 60. */
 BG_IO_HIDDEN unsigned bg_io_child_timeout(void);
 /* In the child, right after fork: die with the parent (PR_SET_PDEATHSIG),
- * cap the address space (0 = no cap), and end by SIGALRM after timeout_s. */
+ * cap the address space (0 = no cap), and end by SIGALRM after timeout_s.
+ * A child stopped by the cap exits with BG_IO_CHILD_OVER_CAP, under
+ * AddressSanitizer too (whose allocator would otherwise exit with 1). */
+#define BG_IO_CHILD_OVER_CAP 4
 BG_IO_HIDDEN void bg_io_child_limits(pid_t parent, size_t mem_cap, unsigned timeout_s);
 /* In the parent: wait for child `pid` to end, for at most `ms` milliseconds,
  * then SIGKILL it and reap it. The wait sleeps on a pidfd (poll), so it returns

@@ -27,6 +27,7 @@
 
 #include <csignal>
 
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -570,7 +571,19 @@ size_t child_memory_cap(const char *path)
     size_t cap = child_memory_cap(path);
     bg_io_child_limits(parent_pid, cap, bg_io_child_timeout());
     h.status = import_guarded(path, flags, &m, h.err, sizeof h.err);
-    if (h.status == BG_ERR_OUT_OF_MEMORY && cap) {
+    // assimp catches its own std::bad_alloc and reports it as an import
+    // error: under a cap, that is the cap speaking, not the file.
+    const bool oom = h.status == BG_ERR_OUT_OF_MEMORY ||
+                     (h.status != BG_OK && (std::strstr(h.err, "bad_alloc") ||
+                                            std::strstr(h.err, "out of memory")));
+    const char *env = std::getenv("BUMPGRAD_MESH_MAX_MB");
+    if (oom && cap && env && *env) {
+        bg_io_set_error(h.err, sizeof h.err,
+                  "'%s': the import ran out of memory under BUMPGRAD_MESH_MAX_MB=%s (%zu MiB "
+                  "in all for the import process); raise it, or unset it for the default",
+                  path, env, cap >> 20);
+        h.status = BG_ERR_INVALID_ARGUMENT;
+    } else if (oom && cap) {
         bg_io_set_error(h.err, sizeof h.err,
                   "'%s': the import needs more than %zu MiB, far more than a file of this "
                   "size should (corrupt counts in the file?); set BUMPGRAD_MESH_MAX_MB to "
@@ -668,7 +681,9 @@ int read_wire_materials(int fd, const wire_header &h, bg_mesh &m, bool &got)
 int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, size_t errlen)
 {
     int fds[2];
-    if (pipe(fds) != 0)
+    // O_CLOEXEC: a program the child starts (ASan's symbolizer, on a report)
+    // must not hold the write end open, or the parent would wait for ever.
+    if (pipe2(fds, O_CLOEXEC) != 0)
         return -1;
     pid_t parent = getpid();
     pid_t pid = fork();
@@ -743,6 +758,10 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
                       "'%s': the mesh importer (assimp) crashed on this file (signal %d); "
                       "it is probably corrupt",
                       path, WTERMSIG(wstatus));
+        else if (WIFEXITED(wstatus) && WEXITSTATUS(wstatus) == BG_IO_CHILD_OVER_CAP)
+            bg_io_set_error(err, errlen,
+                      "'%s': the mesh import ran out of its memory cap (BUMPGRAD_MESH_MAX_MB "
+                      "sets it)", path);
         else
             bg_io_set_error(err, errlen, "'%s': the mesh importer stopped without a result", path);
         return BG_ERR_FORMAT;
@@ -802,11 +821,41 @@ bg_status export_scene(const char *path, const char *format_id, const bg_mesh *m
         for (unsigned c = 0; c < 3; ++c)
             f.mIndices[c] = m->indices[3 * static_cast<size_t>(t) + c];
     }
+    // assimp's exporters ignore their own write errors (a full disk gave an
+    // .obj cut in the middle of a line, exit 0), so a one-file format is
+    // exported to memory and written here, where every write, the fsync and
+    // the close are checked. Formats that export several files (their blob
+    // has a `next`) are left to assimp's own writer.
     Assimp::Exporter exporter;
-    if (exporter.Export(scene.get(), format_id, path) != AI_SUCCESS) {
+    const aiExportDataBlob *blob = exporter.ExportToBlob(scene.get(), format_id);
+    if (!blob) {
         const char *why = exporter.GetErrorString();
         bg_io_set_error(err, errlen, "'%s': the mesh exporter (assimp, %s) failed: %s", path, format_id,
                   why && *why ? why : "unknown error");
+        return BG_ERR_IO;
+    }
+    if (blob->next) {
+        if (exporter.Export(scene.get(), format_id, path) != AI_SUCCESS) {
+            const char *why = exporter.GetErrorString();
+            bg_io_set_error(err, errlen, "'%s': the mesh exporter (assimp, %s) failed: %s", path,
+                            format_id, why && *why ? why : "unknown error");
+            return BG_ERR_IO;
+        }
+        return BG_OK;
+    }
+    const int fd = ::open(path, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, std::strerror(errno));
+        return BG_ERR_IO;
+    }
+    const size_t put = bg_io_write_all(fd, blob->data, blob->size);
+    int why = put == blob->size ? 0 : (errno ? errno : EIO);
+    if (!why && ::fsync(fd) != 0 && errno != EINVAL && errno != EROFS)
+        why = errno;
+    if (::close(fd) != 0 && !why)
+        why = errno;
+    if (why) {
+        bg_io_set_error(err, errlen, "cannot write '%s': %s", path, std::strerror(why));
         return BG_ERR_IO;
     }
     return BG_OK;

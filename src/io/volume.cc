@@ -35,7 +35,6 @@
 #include <unistd.h>
 
 #include "io_util.h"
-#include "common/tool.h"
 
 namespace vdb = openvdb;
 
@@ -614,10 +613,10 @@ static bg_status check_vdb_layout(const char *path, char *err, size_t errlen)
         return BG_ERR_FORMAT;
     }
     std::fclose(f);
-    bgt_err cap;
-    if (bgt_check_alloc(static_cast<double>(mem), "reading its grids (their file_mem_bytes)",
-                        &cap) != BG_OK) {
-        bg_io_set_error(err, errlen, "'%s': %s", path, cap.msg);
+    char cap[1024];
+    if (bg_io_check_alloc(static_cast<double>(mem), "reading its grids (their file_mem_bytes)",
+                          cap, sizeof cap) != BG_OK) {
+        bg_io_set_error(err, errlen, "'%s': %s", path, cap);
         return BG_ERR_FORMAT;
     }
     return BG_OK;
@@ -680,7 +679,7 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
             std::memcpy(buf + 1, e, n);
             (void)bg_io_write_all(msg[1], buf, 1 + n);
         }
-        ::_exit(s == BG_OK ? 0 : s == BG_ERR_OUT_OF_MEMORY ? 4 : 3);
+        ::_exit(s == BG_OK ? 0 : s == BG_ERR_OUT_OF_MEMORY ? BG_IO_CHILD_OVER_CAP : 3);
     }
     if (msg[1] >= 0)
         ::close(msg[1]);
@@ -714,7 +713,7 @@ static bg_status probe_in_child(const char *path, const char *grid_name, char *e
                         path, WTERMSIG(status));
         return BG_ERR_FORMAT;
     }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 4) {
+    if (WIFEXITED(status) && WEXITSTATUS(status) == BG_IO_CHILD_OVER_CAP) {
         bg_io_set_error(err, errlen,
                         "'%s': reading the VDB file needs more memory than a file of this size "
                         "should (corrupt counts?); set BUMPGRAD_VDB_MAX_MB to allow more", path);

@@ -7,15 +7,21 @@
  * never leaves a truncated result behind nor destroys the previous one.
  *
  * Rules shared by both entry points:
- *  - the new file gets the mode a plain open(O_CREAT, 0666) would give it
- *    (0666 & ~umask; mkstemp's 0600 is not kept);
- *  - an existing target that is not a regular file (/dev/null, a FIFO, a
- *    terminal) is never renamed over: the stream API writes it in place, the
- *    path API refuses it; a folder is refused by both;
- *  - temporaries (DIR/.BASE.tmp-bumpgrad-PID-XXXXXX.EXT) are registered, so
- *    SIGINT/SIGTERM/SIGHUP/SIGPIPE remove them; SIGKILL cannot be caught, and a
- *    killed run leaves its temporary behind until the next run that writes the
- *    same target in the same folder removes it (its PID no longer exists).
+ *  - a replaced regular file keeps its mode; a new file gets the mode a plain
+ *    open(O_CREAT, 0666) would give it (0666 & ~umask; mkstemp's 0600 is not
+ *    kept);
+ *  - what is there is judged with lstat: a link is replaced, never written
+ *    through; a FIFO or device is written in place by the stream API only
+ *    when named directly (O_NOFOLLOW) or through a link outside a sticky
+ *    folder, and the path API refuses it; a folder is refused by both
+ *    (bgt_safe_open has the whole rule);
+ *  - temporaries (DIR/.BASE.tmp-bumpgrad-PID-XXXXXX.EXT, or the short
+ *    DIR/.tmp-bumpgrad-PID-XXXXXX.EXT when the name is long) are registered,
+ *    so SIGINT/SIGTERM/SIGHUP/SIGPIPE/SIGABRT and an exit() from inside a
+ *    library remove them; SIGKILL cannot be caught, and a killed run leaves
+ *    its temporary behind until the next run that writes the same target
+ *    in the same folder removes it and any nested or short-form one (their
+ *    PID no longer exists).
  */
 #ifndef BUMPGRAD_TOOLS_SAFE_FILE_H
 #define BUMPGRAD_TOOLS_SAFE_FILE_H
@@ -42,6 +48,30 @@ bg_status bgt_safe_open(bgt_safe_file *f, const char *path, bgt_err *e);
 bg_status bgt_safe_commit(bgt_safe_file *f, bgt_err *e);
 /* Close and remove the temporary (no effect on the target). */
 void bgt_safe_abort(bgt_safe_file *f);
+
+/* ---- sets of outputs ----
+ * Several files that belong together (a bake's UDIM tiles and its mesh) are
+ * each replaced atomically; two runs writing the same set at once could still
+ * interleave their renames and leave a mixed set. Holding this advisory lock
+ * (flock on each folder that holds one of the files, taken in a fixed order)
+ * around the renames makes the runs commit one after the other: the set is
+ * always one run's. Names "-" and NULL are skipped. It does not stop another
+ * program that does not take it. */
+typedef struct bgt_safe_lock {
+    int fd[2];
+} bgt_safe_lock;
+bg_status bgt_safe_lock_outputs(bgt_safe_lock *l, const char *a, const char *b, bgt_err *e);
+void bgt_safe_unlock(bgt_safe_lock *l);
+
+/* ---- the exit guard ----
+ * An exit() while a temporary is live can only come from a third-party
+ * library inside a write (libjpeg calls exit(1) on a full disk). The guard
+ * removes every live temporary and, if a note is set, calls it with the
+ * target being written; a note returning a code >= 0 ends the process with
+ * that code (_exit), so such an exit never passes as success. The CLI sets
+ * one that prints the message; without one the guard is silent. */
+typedef int (*bgt_safe_exit_note)(const char *target);
+void bgt_safe_on_exit_during_write(bgt_safe_exit_note note);
 
 /* ---- path API, for writers that need a file name (OpenImageIO, OpenVDB) ---- */
 /* Create an empty, unique temporary next to `path` that keeps its extension

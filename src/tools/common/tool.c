@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #include "tool.h"
+#include "env.h"
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -35,14 +36,11 @@ void bgt_err_prefix(bgt_err *e, const char *prefix)
 
 size_t bgt_memory_cap(void)
 {
-    const char *env = getenv("BUMPGRAD_MAX_MB");
-    unsigned long long mb = BGT_DEFAULT_MAX_MB;
-    if (env && *env) {
-        char *end;
-        unsigned long long v = strtoull(env, &end, 10);
-        if (*end == '\0')
-            mb = v;
-    }
+    /* A bad value never switches the cap off: the default holds, and
+     * bgt_check_alloc (and the CLI, before any work) names the variable. */
+    unsigned long long mb;
+    if (bgt_env_uint("BUMPGRAD_MAX_MB", &mb, NULL) != BG_OK)
+        mb = BGT_DEFAULT_MAX_MB;
     if (mb == 0 || mb > (unsigned long long)(SIZE_MAX >> 20))
         return SIZE_MAX;
     return (size_t)mb << 20;
@@ -50,6 +48,9 @@ size_t bgt_memory_cap(void)
 
 bg_status bgt_check_alloc(double bytes, const char *what, bgt_err *e)
 {
+    unsigned long long mb;
+    if (bgt_env_uint("BUMPGRAD_MAX_MB", &mb, e) != BG_OK)
+        return BG_ERR_INVALID_ARGUMENT;
     size_t cap = bgt_memory_cap();
     if (cap == SIZE_MAX || bytes <= (double)cap)
         return BG_OK;

@@ -605,11 +605,8 @@ static bg_status out_open(mesh_out *w, const bg_mesh *m, const vertex_job *job, 
                             err);
         return BG_OK;
     }
-    if (is_device(w->path)) {
-        if (!(w->devout = fopen(w->path, "wb")))
-            return bgt_fail(e, BG_ERR_IO, "cannot open output %s: %s", w->path, strerror(errno));
-        return BG_OK;
-    }
+    /* A device or FIFO (written in place) or a planted link to one: the one
+     * rule of safe_file.c decides (bgt_safe_open). */
     return bgt_safe_open(&w->of, w->path, e);
 }
 
@@ -941,11 +938,21 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
      * is in place too, so a failing bake leaves the old OUT alone. */
     if (o->output && (st = out_write(&w, o, &m, &job, file_normals, &mo, r, e)) != BG_OK)
         goto done;
-    if (o->bake_path && (st = map_commit(&mo, e)) != BG_OK)
+    /* The set (tiles and OUT) is renamed under one lock, so two runs writing
+     * it at once leave one run's set, never a mix (safe_file.h). */
+    bgt_safe_lock lock;
+    if ((st = bgt_safe_lock_outputs(&lock, o->bake_path, o->output, e)) != BG_OK)
         goto done;
-    if ((st = map_commit(&ho, e)) != BG_OK || (st = map_commit(&mm, e)) != BG_OK)
-        goto done;
-    if (o->output && (st = out_commit(&w, e)) != BG_OK)
+    if (o->bake_path)
+        st = map_commit(&mo, e);
+    if (st == BG_OK)
+        st = map_commit(&ho, e);
+    if (st == BG_OK)
+        st = map_commit(&mm, e);
+    if (st == BG_OK && o->output)
+        st = out_commit(&w, e);
+    bgt_safe_unlock(&lock);
+    if (st != BG_OK)
         goto done;
 
     if (o->output)

@@ -2,7 +2,7 @@
 /* Material textures written by another machine: the search of
  * mesh_texpath.h, after Blender's "find missing files" (by base name, in the
  * folder of the file that references it). */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "mesh/mesh_texpath.h"
 #include <ctype.h>
 #include <stdio.h>
@@ -52,7 +52,7 @@ static int drive_path(const char *w)
     return isalpha((unsigned char)w[0]) && w[1] == ':';
 }
 
-char *mesh_texture_find(const char *mesh_path, size_t index, const char *name, const char *kind,
+static char *find_place(const char *mesh_path, size_t index, const char *name, const char *kind,
                         const char *path, bgt_err *e)
 {
     if (regular_file(path)) {
@@ -136,4 +136,33 @@ char *mesh_udim_path(const char *pattern, int udim)
     }
     *o = '\0';
     return out;
+}
+
+/* BUMPGRAD_TEXTURES_UNDER=DIR: a texture is used only when the file it
+ * resolves to (links followed) is inside DIR, for bakes of untrusted meshes
+ * whose paths could name any file the user can read ("../", absolute). */
+char *mesh_texture_find(const char *mesh_path, size_t index, const char *name, const char *kind,
+                        const char *path, bgt_err *e)
+{
+    char *found = find_place(mesh_path, index, name, kind, path, e);
+    const char *under = getenv("BUMPGRAD_TEXTURES_UNDER");
+    if (!found || !under || !*under)
+        return found;
+    char *root = realpath(under, NULL), *real = realpath(found, NULL);
+    size_t rl = root ? strlen(root) : 0;
+    int inside = root && real &&
+                 (strcmp(root, "/") == 0 ||
+                  (strncmp(real, root, rl) == 0 && (real[rl] == '/' || real[rl] == '\0')));
+    if (!inside) {
+        char origin[512];
+        bgt_fail(e, BG_ERR_FORMAT,
+                 "%s: %s texture \"%s\" is %s, outside BUMPGRAD_TEXTURES_UNDER=%s; refused",
+                 mesh_texture_origin(origin, sizeof origin, mesh_path, index, name), kind, path,
+                 real ? real : found, under);
+        free(found);
+        found = NULL;
+    }
+    free(root);
+    free(real);
+    return found;
 }

@@ -37,6 +37,9 @@ char *mesh_udim_path(const char *pattern, int udim);
 const char *mesh_texture_origin(char *buf, size_t len, const char *mesh_path, size_t index,
                                 const char *name);
 
+/* With BUMPGRAD_TEXTURES_UNDER=DIR set, a found file that is not inside DIR
+ * (after following links) is refused with BG_ERR_FORMAT naming it and the
+ * variable: for bakes and renders of untrusted meshes. */
 /* The file of the `kind` texture ("diffuse", "height", "normal") that
  * material `index` ('name') of `mesh_path` names as `path` (a
  * bg_mesh_material path). Returns the first place above that exists,
