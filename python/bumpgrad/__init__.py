@@ -46,8 +46,8 @@ __all__ = [
     "octave_weight", "octaves_for_footprint", "surface_gradient", "perturb", "perturb_height",
     "resolve_normal", "surfgrad_from_tangent_normal", "surfgrad_from_perturbed_normal",
     "triplanar_weights", "surfgrad_triplanar", "isa_best", "isa_active", "isa_force",
-    "DEFAULT_OCTAVES", "DEFAULT_CENTRAL_STEP", "MAX_OCTAVES", "HAVE_TOOLS",
-    "bake_normal_map", "heightmap", "volume", "read_image", "write_image",
+    "DEFAULT_OCTAVES", "DEFAULT_CENTRAL_STEP", "MAX_OCTAVES", "MAX_PERIOD", "HAVE_TOOLS",
+    "bake_normal_map", "heightmap", "volume", "render", "read_image", "write_image",
     # deprecated float64 aliases (use dtype=numpy.float64)
     "noise3d", "fbm3d", "turbulence3d", "fractal3d", "surface_gradientd", "perturbd",
     "resolve_normald", "surfgrad_from_tangent_normald", "surfgrad_from_perturbed_normald",
@@ -59,6 +59,7 @@ __version__ = _c.version()
 
 DEFAULT_OCTAVES = 6         #: BG_DEFAULT_OCTAVES
 MAX_OCTAVES = 32            #: BG_MAX_OCTAVES
+MAX_PERIOD = 256            #: BG_MAX_PERIOD (noise.h): largest period= entry
 #: BG_DEFAULT_CENTRAL_STEP, noise-space units: the C constant is the float 2e-4f,
 #: so the double entry points (and `bumpgrad eval --precision double`) use that
 #: float widened, 2.0000000949949026e-04, not the double 2e-4.
@@ -294,6 +295,25 @@ def _out_pair(out, name="out"):
         raise ValueError(f"{name} must be a pair (value_out, gradient_out) when a gradient is "
                          "returned; either may be None")
     return out
+
+
+def _domain(period, seed):
+    """period=, seed= as noise.h's bg_domain: ((px, py, pz), seed)."""
+    if period is None:
+        per = (0, 0, 0)
+    else:
+        if isinstance(period, (int, _np.integer)) and not isinstance(period, bool):
+            period = (period,) * 3
+        try:
+            vals = list(period)
+        except TypeError:
+            raise TypeError(f"period must be None, an integer or 3 integers (x, y, z), "
+                            f"got {period!r}") from None
+        if len(vals) != 3:
+            raise ValueError(f"period must be 3 integers (x, y, z), got {len(vals)}")
+        per = tuple(_int_arg(f"period[{i}]", v, 0, MAX_PERIOD) for i, v in enumerate(vals))
+    sd = _int_arg("seed", seed, 0, 0xFFFFFFFF)
+    return per, sd
 
 
 # ---- noise and fractals ----------------------------------------------------------
@@ -977,6 +997,69 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
         if not udim:
             return read_image(target)
         return {t: read_image(_os.path.join(tmp, f"map{t:04d}.tif")) for t in tiles}
+
+
+def render(scene="sphere", *, mesh=None, size=384, method="surfgrad", spp=1,
+           function="turbulence", octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5,
+           amplitude=0.06, frequency=1.0, gradient="analytic", step=DEFAULT_CENTRAL_STEP,
+           period=None, seed=0, threads=None, progress=None):
+    """Ray-cast a bumped scene: the tool behind ``bumpgrad render``
+    (bgt_render_run, docs/FIGURES.md), with its options as keyword arguments.
+    The tool writes files only, so the image is written to a float TIFF in a
+    private temporary folder and read back with read_image: the array holds
+    exactly what ``bumpgrad render -o FILE.tif`` (or .exr) writes with the
+    same options.
+
+    scene      'sphere', 'blob' or 'torus' (--scene); ignored with mesh=.
+    mesh       None, or any mesh file assimp reads (--mesh).
+    size       pixels: N or (width, height) (--size).
+    method     the normal perturbation (--method): 'surfgrad', 'surfgrad-central',
+               'listing1', 'listing1-coarse', 'additive', 'flat', 'none', ...
+    spp        samples per pixel, a square 1..256 (--spp).
+    function ... step: the height field, as perturb_height (the CLI's height
+               options; the default amplitude 0.06 is the renderer's).
+    period, seed: the tileable, seeded noise domain, as fbm3 (--period, --seed).
+    threads    worker threads (default: all cores); progress as bake_normal_map.
+    Returns a float32 array (height, width, channels), row 0 at the top.
+    Raises bumpgrad.Error with the tool's message. Tools builds only.
+
+    >>> img = render(size=(32, 24), amplitude=0.0)
+    >>> img.shape[:2], img.dtype
+    ((24, 32), dtype('float32'))
+    """
+    _need_tools("render")
+    if isinstance(size, tuple) and len(size) == 2:
+        w = _int_arg("size[0]", size[0], 1, 1 << 16)
+        h = _int_arg("size[1]", size[1], 1, 1 << 16)
+    else:
+        w = h = _int_arg("size", size, 1, 1 << 16)
+    n = _int_arg("spp", spp, 1, 256)
+    ss = int(round(_math.sqrt(n)))
+    if ss * ss != n:
+        raise ValueError(f"spp must be a square (1, 4, 9, 16, ...), got {n}")
+    if not isinstance(scene, str):
+        raise TypeError(f"scene must be a string, got {scene!r}")
+    if not isinstance(method, str):
+        raise TypeError(f"method must be a string, got {method!r}")
+    fn = _choice("function", function, _FUNCTIONS)
+    grad = _gradient(gradient, allow_none=False) - 1
+    octaves = _int_arg("octaves", octaves, 1, MAX_OCTAVES)
+    lacunarity = _float_arg("lacunarity", lacunarity, "positive")
+    gain = _float_arg("gain", gain)
+    amplitude = _float_arg("amplitude", amplitude)
+    frequency = _float_arg("frequency", frequency)
+    step = _float_arg("step", step, "positive")
+    per, sd = _domain(period, seed)
+    nt = _threads(threads)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable or None, got {progress!r}")
+    mesh = None if mesh is None else _os.fsdecode(mesh)
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="bumpgrad-render-") as tmp:
+        target = _os.path.join(tmp, "render.tif")
+        _c.render(target, scene, mesh, w, h, ss, method, fn, octaves, lacunarity, gain,
+                  amplitude, frequency, step, grad, per, sd, nt, progress)
+        return read_image(target)
 
 
 # ---- ISA ------------------------------------------------------------------------------

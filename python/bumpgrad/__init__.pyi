@@ -9,6 +9,7 @@ import numpy.typing as npt
 __version__: str
 DEFAULT_OCTAVES: int
 MAX_OCTAVES: int
+MAX_PERIOD: int
 DEFAULT_CENTRAL_STEP: float
 HAVE_TOOLS: bool
 
@@ -21,6 +22,7 @@ _Gradient = Optional[Literal["analytic", "central"]]
 _Method = Literal["surfgrad", "additive", "additive-perlin"]
 _Vec = Union[_Array, Tuple[_Array, _Array, _Array]]
 _Scalar = Union[_Array, np.floating[Any]]
+_Period = Union[None, int, Tuple[int, int, int]]
 
 class Error(Exception):
     status: int
@@ -132,3 +134,11 @@ def volume(bbox: Sequence[float], voxel_size: float,
            gradient: Literal["analytic", "central"] = ..., step: float = ...,
            threads: Optional[int] = ...,
            progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...
+def render(scene: Literal["sphere", "blob", "torus"] = ..., *,
+           mesh: Optional[Union[str, "os.PathLike[str]"]] = ...,
+           size: Union[int, Tuple[int, int]] = ..., method: str = ..., spp: int = ...,
+           function: _Function = ..., octaves: int = ..., lacunarity: float = ...,
+           gain: float = ..., amplitude: float = ..., frequency: float = ...,
+           gradient: Literal["analytic", "central"] = ..., step: float = ...,
+           period: _Period = ..., seed: int = ..., threads: Optional[int] = ...,
+           progress: Optional[Callable[[int, int], Any]] = ...) -> npt.NDArray[np.float32]: ...

@@ -12,6 +12,7 @@
 #include "bake/heightmap.h"
 #include "bake/volume.h"
 #include "mesh/mesh.h"
+#include "render/render.h"
 
 static PyObject *raise_tool(bg_status s, const bgt_err *e)
 {
@@ -365,6 +366,88 @@ static PyObject *py_vdb_sample(PyObject *self, PyObject *args)
     Py_RETURN_NONE;
 }
 
+/* render(output, scene, mesh|None, width, height, ss, method, function, octaves, lacunarity,
+ *        gain, amplitude, frequency, step, gradient, (px, py, pz), seed, threads,
+ *        progress|None) -> (out_width, out_height, tracer, triangles):
+ * bgt_render_run writing `output` (a float file for the array form). */
+static PyObject *py_render(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *output, *scene, *mesh, *method;
+    int width, height, ss, function, octaves, gradient, threads;
+    float lac, gain, amp, freq, step;
+    int period[3];
+    unsigned int seed;
+    PyObject *cb;
+    if (!PyArg_ParseTuple(args, "ssziiisiifffffi(iii)IiO", &output, &scene, &mesh, &width, &height, &ss, &method,
+                          &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
+                          &period[0], &period[1], &period[2], &seed, &threads, &cb))
+        return NULL;
+    render_opts o;
+    render_opts_default(&o);
+    render_shape shape;
+    if (render_shape_parse(scene, &shape) != 0) {
+        PyErr_Format(PyExc_ValueError, "scene must be 'sphere', 'blob' or 'torus', got '%s'", scene);
+        return NULL;
+    }
+    render_method m;
+    if (render_method_parse(method, &m) != 0) {
+        PyObject *names = PyList_New(0);
+        for (int i = 0; names && i < RENDER_METHOD_COUNT; i++) {
+            PyObject *n = PyUnicode_FromString(render_method_name((render_method)i));
+            if (!n || PyList_Append(names, n) < 0) {
+                Py_XDECREF(n);
+                Py_CLEAR(names);
+            }
+            Py_XDECREF(n);
+        }
+        if (names) {
+            PyErr_Format(PyExc_ValueError, "method must be one of %R, got '%s'", names, method);
+            Py_DECREF(names);
+        }
+        return NULL;
+    }
+    o.shape = shape;
+    o.mesh_path = mesh;
+    o.width = width;
+    o.height = height;
+    o.ss = ss;
+    o.nmethods = 1;
+    o.methods[0] = m;
+    o.output = output;
+    o.threads = threads;
+    o.h.h.fractal.function = (bg_function)function;
+    o.h.h.fractal.octaves = octaves;
+    o.h.h.fractal.lacunarity = lac;
+    o.h.h.fractal.gain = gain;
+    o.h.h.amplitude = amp;
+    o.h.h.frequency = freq;
+    o.h.h.gradient = (bg_gradient_mode)gradient;
+    o.h.h.step = step;
+    memcpy(o.h.h.domain.period, period, sizeof period);
+    o.h.h.domain.seed = seed;
+    py_progress pp = {.cb = cb};
+    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
+    if (cb != Py_None)
+        o.progress = &sink;
+    render_result r;
+    memset(&r, 0, sizeof r);
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bgt_render_run(&o, &r, &e);
+    Py_END_ALLOW_THREADS
+    if (pp.exc) {
+        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+        return NULL;
+    }
+    if (s != BG_OK)
+        return raise_tool(s, &e);
+    return Py_BuildValue("(iisn)", r.out_width, r.out_height, r.tracer ? r.tracer : "",
+                         (Py_ssize_t)r.triangles);
+}
+
 #define TOOLS_PY_METHODS                                                                          \
     {"mesh_bake", py_mesh_bake, METH_VARARGS, NULL},                                              \
         {"read_image", py_read_image, METH_VARARGS, NULL},                                        \
@@ -372,4 +455,5 @@ static PyObject *py_vdb_sample(PyObject *self, PyObject *args)
         {"heightmap", py_heightmap, METH_VARARGS, NULL},                                          \
         {"volume_bake", py_volume_bake, METH_VARARGS, NULL},                                      \
         {"vdb_sample", py_vdb_sample, METH_VARARGS, NULL},                                        \
-        {"height_field", py_height_field, METH_VARARGS, NULL},
+        {"height_field", py_height_field, METH_VARARGS, NULL},                                    \
+        {"render", py_render, METH_VARARGS, NULL},
