@@ -305,6 +305,8 @@ def _domain(period, seed):
         if isinstance(period, (int, _np.integer)) and not isinstance(period, bool):
             period = (period,) * 3
         try:
+            if isinstance(period, (str, bytes)):
+                raise TypeError
             vals = list(period)
         except TypeError:
             raise TypeError(f"period must be None, an integer or 3 integers (x, y, z), "
@@ -316,9 +318,22 @@ def _domain(period, seed):
     return per, sd
 
 
+def _domain_fits(per, octaves, lacunarity):
+    """bg_domain_validate's rules for a period, with the arguments named."""
+    if not any(per):
+        return
+    if lacunarity != int(lacunarity):
+        raise ValueError(f"period needs an integer lacunarity (octave i repeats after "
+                         f"P * lacunarity^i lattice cells), got lacunarity={lacunarity}")
+    if max(per) * lacunarity ** (octaves - 1) > 2 ** 24:
+        raise ValueError(f"period: the finest octave's period P * lacunarity^(octaves-1) = "
+                         f"{max(per)} * {lacunarity:g}^{octaves - 1} exceeds 2^24")
+
+
 # ---- noise and fractals ----------------------------------------------------------
 
-def _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out, threads):
+def _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out, threads,
+             period=None, seed=0):
     fn = _choice("function", function, _FUNCTIONS)
     mode = _gradient(gradient)
     if fn != 0 or mode == 2:
@@ -326,6 +341,9 @@ def _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out,
         lacunarity = _float_arg("lacunarity", lacunarity, "positive")
         gain = _float_arg("gain", gain)
     step = _float_arg("step", step, "positive", f32=False) if mode == 2 else 0.0
+    dom = _domain(period, seed)
+    if fn != 0 or mode == 2:
+        _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
     comps, shape, tup = _split(p, "p")
     dt = _dtype(dtype, comps)
@@ -339,18 +357,19 @@ def _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out,
     if mode == 0:
         o = _Out(out, shape, dt, "out", False, tup)
         _c.fractal(dt is _F64, fn, int(octaves), float(lacunarity), float(gain), 0, float(step),
-                   nt, x, y, z, o.flat, None, None, None)
+                   nt, x, y, z, o.flat, None, None, None, *dom)
         return o.result()
     vout, gout = _out_pair(out)
     vo = _Out(vout, shape, dt, "out[0]", False, tup)
     go = _Out(gout, shape, dt, "out[1]", True, tup)
     _c.fractal(dt is _F64, fn, int(octaves), float(lacunarity), float(gain), mode, float(step),
-               nt, x, y, z, vo.flat, *go.rows)
+               nt, x, y, z, vo.flat, *go.rows, *dom)
     return vo.result(), go.result()
 
 
 def fractal3(p, function="fbm", octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5,
-             gradient=None, step=DEFAULT_CENTRAL_STEP, *, dtype=None, out=None, threads=None):
+             gradient=None, step=DEFAULT_CENTRAL_STEP, *, period=None, seed=0, dtype=None,
+             out=None, threads=None):
     """Fractal value (and gradient): bg_fractal3_batch and friends, or the
     bg_fractal3d entry points in float64.
 
@@ -361,6 +380,15 @@ def fractal3(p, function="fbm", octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.
     gradient    None: return the value only; 'analytic': (value, gradient) from the
                 same pass (dnoise); 'central': central differences with `step`
                 (noise-space units, finite > 0, 7 evaluations per point).
+    period      None, an integer, or (px, py, pz): tile the noise (noise.h's
+                bg_domain, the CLI's --period): each entry an integer 0..256,
+                0 leaving that axis untiled, so that f(p + P e_i) == f(p). A
+                period needs an integer lacunarity, and P * lacunarity^(octaves-1)
+                at most 2^24.
+    seed        integer 0..2^32-1 (--seed): 0 is Perlin's lattice (the same
+                bits as no seed); another seed offsets each octave by a
+                multiple of 1/256, a different pattern that keeps the tiling.
+                In float64 a period or seed needs gradient None or 'analytic'.
     dtype, out, threads: see help(bumpgrad). out is (value_out, gradient_out)
                 when a gradient is returned.
     Returns the value, shape p.shape[:-1] (a numpy scalar for one point), and the
@@ -370,19 +398,22 @@ def fractal3(p, function="fbm", octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.
     >>> v.shape, g.shape, v.dtype
     ((1,), (1, 3), dtype('float64'))
     """
-    return _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out, threads)
+    return _fractal(p, function, octaves, lacunarity, gain, gradient, step, dtype, out, threads,
+                    period, seed)
 
 
-def _noise3(p, gradient=None, *, dtype=None, out=None, threads=None, grad=None):
+def _noise3(p, gradient=None, *, period=None, seed=0, dtype=None, out=None, threads=None,
+            grad=None):
     if grad is not None:
         _warnings.warn("noise3(grad=...) is deprecated: use gradient='analytic' or None",
                        DeprecationWarning, stacklevel=2)
         if gradient is None:
             gradient = "analytic" if grad else None
-    return _fractal(p, "noise", 1, 2.0, 0.5, gradient, DEFAULT_CENTRAL_STEP, dtype, out, threads)
+    return _fractal(p, "noise", 1, 2.0, 0.5, gradient, DEFAULT_CENTRAL_STEP, dtype, out, threads,
+                    period, seed)
 
 
-_NOISE3_DOC = """noise3($module, p, /, gradient=None, *, dtype=None, out=None, threads=None)
+_NOISE3_DOC = """noise3($module, p, /, gradient=None, *, period=None, seed=0, dtype=None, out=None, threads=None)
 --
 
 Perlin's improved noise (2002), about [-1, 1]: bg_noise3_batch in float32,
@@ -393,6 +424,9 @@ p         points: an array (or nested list) of shape (..., 3), or a tuple of
 gradient  None: return the values (shape p.shape[:-1]); 'analytic': return
           (values, gradients), the gradient (dnoise) from the same pass,
           shaped like p; 'central': central differences with the default step.
+period    None, an integer or (px, py, pz), each 0..256 (0: that axis not
+          tiled): periodic noise, bg_pnoise3_batch (bg_pnoise3d in float64),
+          noise3(p + P e_i) == noise3(p). seed: as fractal3.
 dtype, out, threads: see help(bumpgrad).
 Float32 accuracy against the double reference: value error <= 1e-5,
 gradient <= 5e-5 (noise.h). NaN or Inf in a point: NaN value and gradient.
@@ -402,6 +436,8 @@ points with no keyword takes a fast path in C.
 >>> import numpy
 >>> print(repr(noise3(numpy.array([[3.14, 42, 7]]), dtype=numpy.float64)[0]))
 0.13691995878400012
+>>> bool(noise3([0.25, 0.625, 0.875], period=4) == noise3([4.25, 0.625, 0.875], period=4))
+True
 """
 _noise3.__name__ = _noise3.__qualname__ = "noise3"  # in its TypeErrors
 _noise3.__doc__ = _NOISE3_DOC.split("--\n\n", 1)[1]
@@ -411,25 +447,32 @@ noise3 = _c.noise3
 
 
 def fbm3(p, octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, gradient=None,
-         step=DEFAULT_CENTRAL_STEP, *, dtype=None, out=None, threads=None):
-    """fBm: sum_i gain^i noise(lacunarity^i p). Arguments as fractal3.
+         step=DEFAULT_CENTRAL_STEP, *, period=None, seed=0, dtype=None, out=None, threads=None):
+    """fBm: sum_i gain^i noise(lacunarity^i p). Arguments as fractal3 (period=
+    and seed= tile and vary it).
 
     >>> float(fbm3([0.5, 0.25, 0.125], octaves=1)) == float(noise3([0.5, 0.25, 0.125]))
     True
+    >>> a = fbm3([0.5, 0.25, 0.125], period=(8, 8, 0), seed=3)
+    >>> bool(a == fbm3([8.5, 0.25, 0.125], period=(8, 8, 0), seed=3))
+    True
     """
-    return _fractal(p, "fbm", octaves, lacunarity, gain, gradient, step, dtype, out, threads)
+    return _fractal(p, "fbm", octaves, lacunarity, gain, gradient, step, dtype, out, threads,
+                    period, seed)
 
 
 def turbulence3(p, octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, gradient=None,
-                step=DEFAULT_CENTRAL_STEP, *, dtype=None, out=None, threads=None):
+                step=DEFAULT_CENTRAL_STEP, *, period=None, seed=0, dtype=None, out=None,
+                threads=None):
     """Turbulence: sum_i gain^i |noise(lacunarity^i p)| (Perlin 1985). The
-    analytic gradient takes sign(0) = +1 at zero crossings. Arguments as fractal3.
+    analytic gradient takes sign(0) = +1 at zero crossings. Arguments as
+    fractal3, period= and seed= included.
 
     >>> bool(turbulence3([[0.5, 0.25, 0.125]], octaves=3)[0] >= 0)
     True
     """
     return _fractal(p, "turbulence", octaves, lacunarity, gain, gradient, step, dtype, out,
-                    threads)
+                    threads, period, seed)
 
 
 # ---- footprints ----------------------------------------------------------------
@@ -540,14 +583,16 @@ def perturb(n, g, method="surfgrad", *, dtype=None, out=None, threads=None):
 def perturb_height(p, n, function="turbulence", octaves=DEFAULT_OCTAVES, lacunarity=2.0,
                    gain=0.5, amplitude=0.1, frequency=1.0, gradient="analytic",
                    step=DEFAULT_CENTRAL_STEP, method="surfgrad", footprint=None, *,
-                   dtype=None, out=None, threads=None):
+                   period=None, seed=0, dtype=None, out=None, threads=None):
     """The fused "height gradient -> perturbed normal" call, float32 only
     (bg_perturb_height_batch): h(p) = amplitude F(frequency p) with F the
     fractal, its gradient ('analytic', or 'central' with `step`), and the normal
     n perturbed with `method`. amplitude, frequency and footprint may be scalars
     or per-point arrays; every array broadcasts against p's and n's batch
     shapes. footprint (world units) selects bg_perturb_height_footprint_batch
-    (always analytic). Defaults are bg_height_default(): 6-octave turbulence,
+    (always analytic). period= and seed= tile and vary the fractal as in
+    fractal3 (bg_height.domain; periods in noise-space units, frequency * p).
+    Defaults are bg_height_default(): 6-octave turbulence,
     amplitude 0.1, frequency 1. Returns (height, normal); out is
     (height_out, normal_out).
 
@@ -562,6 +607,8 @@ def perturb_height(p, n, function="turbulence", octaves=DEFAULT_OCTAVES, lacunar
     lacunarity = _float_arg("lacunarity", lacunarity, "positive")
     gain = _float_arg("gain", gain)
     step = _float_arg("step", step, "positive")
+    dom = _domain(period, seed)
+    _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
     dt = _dtype(dtype, [], "perturb_height")
     pc, pshape, tup = _split(p, "p")
@@ -594,7 +641,8 @@ def perturb_height(p, n, function="turbulence", octaves=DEFAULT_OCTAVES, lacunar
     ho = _Out(hout, shape, dt, "out[0]", False, tup)
     no = _Out(nout, shape, dt, "out[1]", True, tup)
     _c.perturb_height(fn, octaves, lacunarity, gain, scal["amplitude"], scal["frequency"], grad,
-                      step, m, nt, px, py, pz, nx, ny, nz, ho.flat, *no.rows, fp, amp, freq)
+                      step, m, nt, px, py, pz, nx, ny, nz, ho.flat, *no.rows, fp, amp, freq,
+                      *dom)
     return ho.result(), no.result()
 
 
@@ -1050,6 +1098,7 @@ def render(scene="sphere", *, mesh=None, size=384, method="surfgrad", spp=1,
     frequency = _float_arg("frequency", frequency)
     step = _float_arg("step", step, "positive")
     per, sd = _domain(period, seed)
+    _domain_fits(per, octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable or None, got {progress!r}")

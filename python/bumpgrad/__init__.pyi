@@ -31,31 +31,37 @@ class Error(Exception):
     def __init__(self, status: int, text: str, what: str = ...) -> None: ...
 
 @overload
-def noise3(p: _Points, gradient: None = ..., *, dtype: _DType = ..., out: Optional[_Array] = ...,
+def noise3(p: _Points, gradient: None = ..., *, period: _Period = ..., seed: int = ...,
+           dtype: _DType = ..., out: Optional[_Array] = ...,
            threads: Optional[int] = ...) -> _Scalar: ...
 @overload
-def noise3(p: _Points, gradient: Literal["analytic", "central"], *, dtype: _DType = ...,
+def noise3(p: _Points, gradient: Literal["analytic", "central"], *, period: _Period = ...,
+           seed: int = ..., dtype: _DType = ...,
            out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
            threads: Optional[int] = ...) -> Tuple[_Scalar, _Vec]: ...
 @overload
 def fractal3(p: _Points, function: _Function = ..., octaves: int = ..., lacunarity: float = ...,
-             gain: float = ..., gradient: None = ..., step: float = ..., *, dtype: _DType = ...,
+             gain: float = ..., gradient: None = ..., step: float = ..., *,
+             period: _Period = ..., seed: int = ..., dtype: _DType = ...,
              out: Optional[_Array] = ..., threads: Optional[int] = ...) -> _Scalar: ...
 @overload
 def fractal3(p: _Points, function: _Function, octaves: int, lacunarity: float, gain: float,
-             gradient: Literal["analytic", "central"], step: float = ..., *, dtype: _DType = ...,
+             gradient: Literal["analytic", "central"], step: float = ..., *,
+             period: _Period = ..., seed: int = ..., dtype: _DType = ...,
              out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
              threads: Optional[int] = ...) -> Tuple[_Scalar, _Vec]: ...
 @overload
 def fractal3(p: _Points, function: _Function = ..., octaves: int = ..., lacunarity: float = ...,
              gain: float = ..., *, gradient: Literal["analytic", "central"], step: float = ...,
-             dtype: _DType = ..., out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
+             period: _Period = ..., seed: int = ..., dtype: _DType = ..., out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
              threads: Optional[int] = ...) -> Tuple[_Scalar, _Vec]: ...
 def fbm3(p: _Points, octaves: int = ..., lacunarity: float = ..., gain: float = ...,
-         gradient: _Gradient = ..., step: float = ..., *, dtype: _DType = ..., out: Any = ...,
+         gradient: _Gradient = ..., step: float = ..., *, period: _Period = ...,
+         seed: int = ..., dtype: _DType = ..., out: Any = ...,
          threads: Optional[int] = ...) -> Any: ...
 def turbulence3(p: _Points, octaves: int = ..., lacunarity: float = ..., gain: float = ...,
-                gradient: _Gradient = ..., step: float = ..., *, dtype: _DType = ...,
+                gradient: _Gradient = ..., step: float = ..., *, period: _Period = ...,
+                seed: int = ..., dtype: _DType = ...,
                 out: Any = ..., threads: Optional[int] = ...) -> Any: ...
 def fractal3_footprint(p: _Points, footprint: npt.ArrayLike, function: _Function = ...,
                        octaves: int = ..., lacunarity: float = ..., gain: float = ..., *,
@@ -74,7 +80,8 @@ def perturb_height(p: _Points, n: _Points, function: _Function = ..., octaves: i
                    lacunarity: float = ..., gain: float = ..., amplitude: npt.ArrayLike = ...,
                    frequency: npt.ArrayLike = ..., gradient: Literal["analytic", "central"] = ...,
                    step: float = ..., method: _Method = ...,
-                   footprint: Optional[npt.ArrayLike] = ..., *, dtype: _DType = ...,
+                   footprint: Optional[npt.ArrayLike] = ..., *, period: _Period = ...,
+                   seed: int = ..., dtype: _DType = ...,
                    out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
                    threads: Optional[int] = ...) -> Tuple[_Scalar, _Vec]: ...
 def resolve_normal(n: _Points, *surfgrads: _Points, weights: Optional[Sequence[float]] = ...,

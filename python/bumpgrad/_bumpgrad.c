@@ -126,6 +126,8 @@ struct job {
     range_fn run;
     int dbl, mode, function, op, method, weights_only, kind, ival;
     bg_fractal f;
+    bg_domain d; /* fractal: the tileable, seeded domain (used when dom) */
+    int dom;
     bg_height h;
     double step, k;
     float w, lac;
@@ -298,6 +300,21 @@ static void fractal_range_soa(const job *j, size_t b, size_t e)
                     *z = OFF(j->in[2], const float, b);
         float *v = OFF(j->out[0], float, b), *gx = OFF(j->out[1], float, b),
               *gy = OFF(j->out[2], float, b), *gz = OFF(j->out[3], float, b);
+        if (j->dom) { /* periodic noise (no seed): bg_pnoise3; else the domain fractal */
+            const int pn = function == BG_FUNC_NOISE && j->d.seed == 0;
+            if (mode == 0 && pn)
+                bg_pnoise3_batch(j->d.period, x, y, z, N, v);
+            else if (mode == 0)
+                bg_fractal3_domain_batch(&j->f, &j->d, x, y, z, N, v);
+            else if (mode == 1 && pn)
+                bg_pnoise3_grad_batch(j->d.period, x, y, z, N, v, gx, gy, gz);
+            else if (mode == 1)
+                bg_fractal3_domain_grad_batch(&j->f, &j->d, x, y, z, N, v, gx, gy, gz);
+            else
+                bg_fractal3_domain_grad_central_batch(&j->f, &j->d, (float)j->step, x, y, z, N, v,
+                                                      gx, gy, gz);
+            return;
+        }
         if (mode == 0 && function == BG_FUNC_NOISE)
             bg_noise3_batch(x, y, z, N, v);
         else if (mode == 0)
@@ -315,7 +332,19 @@ static void fractal_range_soa(const job *j, size_t b, size_t e)
     for (size_t i = b; i < e; i++) {
         bg_dvec3 d;
         double r;
-        if (mode == 0) {
+        if (j->dom) { /* mode 0 or 1: py_fractal refuses central differences here */
+            const int pn = function == BG_FUNC_NOISE && j->d.seed == 0;
+            if (mode == 0)
+                r = pn ? bg_pnoise3d(x[i], y[i], z[i], j->d.period)
+                       : bg_fractal3d_domain(&j->f, &j->d, x[i], y[i], z[i]);
+            else {
+                r = pn ? bg_pnoise3d_grad(x[i], y[i], z[i], j->d.period, &d)
+                       : bg_fractal3d_domain_grad(&j->f, &j->d, x[i], y[i], z[i], &d);
+                gx[i] = d.x;
+                gy[i] = d.y;
+                gz[i] = d.z;
+            }
+        } else if (mode == 0) {
             r = function == BG_FUNC_NOISE ? bg_noise3d(x[i], y[i], z[i])
                                           : bg_fractal3d(&j->f, x[i], y[i], z[i]);
         } else {
@@ -334,7 +363,9 @@ static void fractal_range_soa(const job *j, size_t b, size_t e)
 }
 
 /* fractal(double, function, octaves, lacunarity, gain, mode, step, threads, x, y, z,
- *         value|None, gx|None, gy, gz)   mode 0: value only, 1: analytic, 2: central */
+ *         value|None, gx|None, gy, gz, (px, py, pz), seed)
+ * mode 0: value only, 1: analytic, 2: central; a nonzero period or seed: the
+ * domain calls of noise.h (bg_pnoise3* for noise without a seed). */
 static PyObject *py_fractal(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -342,14 +373,29 @@ static PyObject *py_fractal(PyObject *self, PyObject *args)
     float lac, gain;
     double step;
     PyObject *o[7];
-    if (!PyArg_ParseTuple(args, "piiffidiOOOOOOO", &dbl, &function, &octaves, &lac, &gain, &mode,
-                          &step, &threads, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6]))
+    bg_domain dom = {{0, 0, 0}, 0};
+    if (!PyArg_ParseTuple(args, "piiffidiOOOOOOO(iii)I", &dbl, &function, &octaves, &lac, &gain,
+                          &mode, &step, &threads, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6],
+                          &dom.period[0], &dom.period[1], &dom.period[2], &dom.seed))
         return NULL;
     job j = {.run = fractal_range, .dbl = dbl, .mode = mode, .function = function, .step = step};
+    j.d = dom;
+    j.dom = dom.period[0] || dom.period[1] || dom.period[2] || dom.seed;
     if (function == BG_FUNC_NOISE && mode != 2) {
-        j.f.function = BG_FUNC_NOISE; /* octaves etc. unused */
+        j.f.function = BG_FUNC_NOISE; /* octaves etc. unused, but valid for a domain */
+        j.f.octaves = 1;
+        j.f.lacunarity = 2.0f;
+        j.f.gain = 0.5f;
     } else if (!parse_fractal(function, octaves, lac, gain, &j.f))
         return NULL;
+    if (j.dom && bg_domain_validate(&j.f, &j.d) != BG_OK)
+        return raise_status(BG_ERR_INVALID_ARGUMENT,
+                            "period (each 0..256, an integer lacunarity, and the finest octave's "
+                            "period P * lacunarity^(octaves-1) at most 2^24)");
+    if (j.dom && dbl && mode == 2)
+        return raise_status(BG_ERR_INVALID_ARGUMENT,
+                            "period/seed with gradient='central' in float64 (only the analytic "
+                            "gradient over a domain in double)");
     if (mode == 2 && !(step > 0.0 && step < 1e30))
         return raise_status(BG_ERR_INVALID_ARGUMENT, "step (must be finite and > 0)");
     const char fmt = dbl ? 'd' : 'f';
@@ -644,7 +690,7 @@ static void height_range(const job *j, size_t b, size_t e)
 
 /* perturb_height(function, octaves, lacunarity, gain, amplitude, frequency, gradient, step,
  *                method, threads, px, py, pz, nx, ny, nz, height|None, ox, oy, oz,
- *                footprint|None, amplitude[]|None, frequency[]|None)
+ *                footprint|None, amplitude[]|None, frequency[]|None, (px, py, pz), seed)
  * The per-point arrays, when given, replace the scalar; the scalars are checked
  * (bg_height_validate) and the Python layer checks the arrays are finite. */
 static PyObject *py_perturb_height(PyObject *self, PyObject *args)
@@ -653,9 +699,11 @@ static PyObject *py_perturb_height(PyObject *self, PyObject *args)
     int function, octaves, gradient, method, threads;
     float lac, gain, amp, freq, step;
     PyObject *o[13];
-    if (!PyArg_ParseTuple(args, "iiffffifiiOOOOOOOOOOOOO", &function, &octaves, &lac, &gain,
+    bg_domain dom = {{0, 0, 0}, 0};
+    if (!PyArg_ParseTuple(args, "iiffffifiiOOOOOOOOOOOOO(iii)I", &function, &octaves, &lac, &gain,
                           &amp, &freq, &gradient, &step, &method, &threads, &o[0], &o[1], &o[2],
-                          &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &o[9], &o[10], &o[11], &o[12]))
+                          &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &o[9], &o[10], &o[11], &o[12],
+                          &dom.period[0], &dom.period[1], &dom.period[2], &dom.seed))
         return NULL;
     job j = {.run = height_range, .method = method};
     j.h = bg_height_default();
@@ -667,6 +715,7 @@ static PyObject *py_perturb_height(PyObject *self, PyObject *args)
     j.h.frequency = freq;
     j.h.gradient = (bg_gradient_mode)gradient;
     j.h.step = step;
+    j.h.domain = dom;
     bg_status s = bg_height_validate(&j.h);
     if (s != BG_OK)
         return raise_status(s, "height parameters");

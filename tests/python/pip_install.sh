@@ -56,6 +56,8 @@ done
 if [ -n "$exe" ]; then
   result "test_tools.py" env PYTHONDONTWRITEBYTECODE=1 "$venv/bin/python" \
     "$src/tests/python/test_tools.py" "$exe"
+  result "test_domain_py.py" env PYTHONDONTWRITEBYTECODE=1 "$venv/bin/python" \
+    "$src/tests/python/test_domain_py.py" "$exe"
   result "test_render_py.py" env PYTHONDONTWRITEBYTECODE=1 "$venv/bin/python" \
     "$src/tests/python/test_render_py.py" "$exe"
 fi
