@@ -4,7 +4,7 @@
 gradients against a numpy float64 reference of Perlin's published algorithm
 (perlin_ref.py, next to this file), on random points.
 
-usage: PYTHONPATH=BUILD/python:examples python3 examples/python_accuracy.py [N] [SEED]
+usage: PYTHONPATH=BUILD/python:examples python3 examples/python_accuracy.py [N] [RNG_STATE]
 Exits 1 if an error exceeds the bound noise.h documents (1e-5 value, 5e-5 gradient).
 """
 import sys
@@ -17,14 +17,15 @@ import perlin_ref
 
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 200000
-    seed = int(sys.argv[2]) if len(sys.argv) > 2 else 2026
-    rng = np.random.default_rng(seed)
+    # The state of numpy's random-number generator that draws the points.
+    rng_state = int(sys.argv[2]) if len(sys.argv) > 2 else 2026
+    rng = np.random.default_rng(rng_state)
     # Points in [-100, 100]^3, rounded to float32 first: the reference sees the
     # very points the float32 kernel sees, so only the arithmetic differs.
     p = rng.uniform(-100.0, 100.0, (n, 3)).astype(np.float32)
     x, y, z = (p[:, i].astype(np.float64) for i in range(3))
     print(f"bumpgrad {bumpgrad.__version__}, ISA {bumpgrad.isa_active()}, {n} points in "
-          f"[-100, 100]^3, seed {seed}")
+          f"[-100, 100]^3, random state {rng_state}")
     print(f"{'function':11s} {'max |value err|':>16s} {'mean':>10s} {'max |grad err|':>15s} "
           f"{'mean':>10s}  points")
     ok = True

@@ -13,7 +13,7 @@ times the analytic gradient's. Below the float spacing of the points
 (x + h == x - h) the central gradient is 0. The plot shows the median and the
 largest error over the points for each step.
 
-usage: PYTHONPATH=BUILD/python:examples python3 examples/python/accuracy_study.py [N] [SEED] [OUT.png]
+usage: PYTHONPATH=BUILD/python:examples python3 examples/python/accuracy_study.py [N] [RNG_STATE] [OUT.png]
 (with an installed package only the examples folder is needed on PYTHONPATH,
 for perlin_ref). Needs matplotlib (Debian: python3-matplotlib).
 """
@@ -33,9 +33,10 @@ def errors(g, ref):
 
 def main():
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 20000
-    seed = int(sys.argv[2]) if len(sys.argv) > 2 else 2026
+    # The state of numpy's random-number generator that draws the points.
+    rng_state = int(sys.argv[2]) if len(sys.argv) > 2 else 2026
     out = sys.argv[3] if len(sys.argv) > 3 else "python_accuracy_study.png"
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(rng_state)
     p32 = rng.uniform(-100.0, 100.0, (n, 3)).astype(np.float32)
     p64 = p32.astype(np.float64)
     steps = np.logspace(-7, -0.5, 27)
@@ -60,7 +61,7 @@ def main():
         rows[function] = res
     # The table.
     print(f"bumpgrad {bumpgrad.__version__}, ISA {bumpgrad.isa_active()}, {n} points in "
-          f"[-100, 100]^3 (float32), seed {seed}; gradient error (largest component), "
+          f"[-100, 100]^3 (float32), random state {rng_state}; gradient error (largest component), "
           "median / max")
     print(f"{'function':9s} {'method':28s} {'float32':>21s} {'float64':>21s}")
     for function, res in rows.items():
