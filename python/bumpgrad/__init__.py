@@ -838,11 +838,11 @@ def write_image(path, image, bits=8, srgb=False):
                    _choice("bits", bits, _BITS), int(bool(srgb)))
 
 
-_GRAYS = {"seed": 0, "rec709": 1}
+_GRAYS = {"diffuse": 0, "rec709": 1}
 
 
 def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y",
-              gray="seed", to_derivative=False, bits=None):
+              gray="diffuse", to_derivative=False, bits=None):
     """The tool behind ``bumpgrad heightmap`` (bgt_heightmap_run): an image's
     gray level as a height H into a tangent-space normal map
     n = normalize(-S a, -S b, 1) with a = H[x+1,y] - H[x-1,y], b = H[x,y-1] - H[x,y+1]
@@ -857,7 +857,7 @@ def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y"
     strength   the slope factor S (finite; negative inverts the bumps).
     edge       'clamp' or 'wrap' (the neighbours beyond the border).
     normal_map_y '+y' (OpenGL) or '-y' (DirectX: --y-down).
-    gray       'seed' or 'rec709': the gray level of a colour image.
+    gray       'diffuse' or 'rec709' (--gray): the gray level of a colour image.
     bits       with path: 8, 16 or 'float' (None: 8, or float with to_derivative).
     Raises bumpgrad.Error with the tool's message (unreadable image, a NaN
     sample, ...). Tools builds only.
@@ -871,6 +871,10 @@ def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y"
     strength = _float_arg("strength", strength)
     wrap = _choice("edge", edge, {"clamp": 0, "wrap": 1})
     y_down = _choice("normal_map_y", normal_map_y, _Y)
+    if isinstance(gray, str) and gray == "seed":
+        _warnings.warn("heightmap(gray='seed') is deprecated: use gray='diffuse' (the CLI's "
+                       "--gray diffuse)", DeprecationWarning, stacklevel=2)
+        gray = "diffuse"
     g = _choice("gray", gray, _GRAYS)
     nbits = _choice("bits", bits, {None: 0, 8: 8, 16: 16, "float": 32, 32: 32})
     if not isinstance(to_derivative, (bool, _np.bool_)):

@@ -131,7 +131,7 @@ def write_image(path: Union[str, "os.PathLike[str]"], image: npt.ArrayLike,
 def heightmap(image: Union[str, "os.PathLike[str]", npt.ArrayLike],
               path: Optional[Union[str, "os.PathLike[str]"]] = ..., *, strength: float = ...,
               edge: Literal["clamp", "wrap"] = ..., normal_map_y: Literal["+y", "-y"] = ...,
-              gray: Literal["seed", "rec709"] = ..., to_derivative: bool = ...,
+              gray: Literal["diffuse", "rec709"] = ..., to_derivative: bool = ...,
               bits: Union[None, int, str] = ...) -> Optional[npt.NDArray[np.float32]]: ...
 def volume(bbox: Sequence[float], voxel_size: float,
            path: Optional[Union[str, "os.PathLike[str]"]] = ..., *,

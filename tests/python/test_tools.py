@@ -11,6 +11,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import warnings
 
 import numpy as np
 
@@ -142,6 +143,23 @@ def main():
             if src == ftif:
                 check(np.array_equal(bits(bumpgrad.heightmap(h, **kw)), bits(want)),
                       "heightmap of an array differs from the CLI on its float file")
+        # gray= on a colour image, named as the CLI's --gray ('seed' is a deprecated alias).
+        col = os.path.join(tmp, "col.tif")
+        bumpgrad.write_image(col, np.random.default_rng(5).uniform(0, 1, (16, 20, 3)),
+                             bits="float")
+        for gray in ("diffuse", "rec709"):
+            out = os.path.join(tmp, "hm.tif")
+            subprocess.run([exe, "-q", "heightmap", col, out, "--bits", "float", "--gray", gray],
+                           check=True)
+            check(np.array_equal(bits(bumpgrad.heightmap(col, gray=gray)),
+                                 bits(bumpgrad.read_image(out))),
+                  f"heightmap gray={gray!r} differs from --gray {gray}")
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            old = bumpgrad.heightmap(col, gray="seed")
+        check(any(issubclass(x.category, DeprecationWarning) for x in w) and
+              np.array_equal(bits(old), bits(bumpgrad.heightmap(col))),
+              "heightmap(gray='seed') does not warn or differs from the default 'diffuse'")
         nm = os.path.join(tmp, "nm.tif")
         bumpgrad.heightmap(png, nm, bits="float")
         d_cli = os.path.join(tmp, "d.tif")
