@@ -899,7 +899,8 @@ def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y"
 
 def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulence",
            octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, amplitude=0.1, frequency=1.0,
-           gradient="analytic", step=DEFAULT_CENTRAL_STEP, threads=None, progress=None):
+           gradient="analytic", step=DEFAULT_CENTRAL_STEP, period=None, seed=0, threads=None,
+           progress=None):
     """The tool behind ``bumpgrad volume`` (bgt_volume_run): the height field
     h(p) = amplitude F(frequency p) baked at the voxel centres S (i, j, k) inside
     the box, for any sub-box (docs/IO.md describes the file).
@@ -917,7 +918,7 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
                tool's voxel centres (float)(S * i), as the bake does. A dense box
                only: band_sphere needs a path.
     band_sphere (cx, cy, cz, r, w): only the voxels with | |p - c| - r | <= w.
-    function ... step: the height field, as perturb_height; threads, progress
+    function ... step, period, seed: the height field, as perturb_height; threads, progress
                (progress(done, total) in rows of voxels) as bake_normal_map.
     Raises bumpgrad.Error with the tool's message. Tools builds only.
 
@@ -948,13 +949,15 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
     amplitude = _float_arg("amplitude", amplitude)
     frequency = _float_arg("frequency", frequency)
     step = _float_arg("step", step, "positive")
+    dom = _domain(period, seed)
+    _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable or None, got {progress!r}")
 
     def run(target):
         return _c.volume_bake(target, *box, voxel, band, fn, octaves, lacunarity, gain,
-                              amplitude, frequency, step, grad, nt, progress)
+                              amplitude, frequency, step, grad, nt, progress, *dom)
 
     if path is not None:
         return run(_os.fsdecode(path))
@@ -969,7 +972,7 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
     heights = _np.empty(ii.size, _F32)
     grads = _np.empty((3, ii.size), _F32)
     _c.height_field(fn, octaves, lacunarity, gain, amplitude, frequency, step, grad, nt, *pts,
-                    heights, grads[0], grads[1], grads[2])
+                    heights, grads[0], grads[1], grads[2], *dom)
     return (heights.reshape(ii.shape), _np.moveaxis(grads.reshape((3,) + ii.shape), 0, -1),
             tuple(lo))
 
@@ -979,7 +982,7 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
                     frequency=1.0, gradient="analytic", step=DEFAULT_CENTRAL_STEP,
                     method="surfgrad", space="tangent", padding=4, tangents="mikktspace",
                     normal_map_y="+y", recompute_normals=False, depth=None, udim=False,
-                    threads=None, progress=None):
+                    period=None, seed=0, threads=None, progress=None):
     """Bake the normal map of a mesh bumped by a solid height field: the tool
     behind ``bumpgrad mesh --bake-normal-map`` (bgt_mesh_run), with the CLI's
     options as keyword arguments (docs/MESH.md).
@@ -992,7 +995,7 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
                A file name: write the map (format from the extension, one file per
                tile when it holds <UDIM>) and return the list of UDIM tiles written.
     function, octaves, lacunarity, gain, amplitude, frequency, gradient, step,
-    method     the height field and perturbation, as perturb_height.
+    method, period, seed: the height field and perturbation, as perturb_height.
     space      'tangent' (mikkTSpace frame) or 'object'; tangents 'mikktspace' or
                'file'; normal_map_y '+y' (OpenGL, glTF) or '-y' (DirectX).
     padding    dilate into empty texels this many times (integer >= 0).
@@ -1028,6 +1031,8 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     gy = _choice("normal_map_y", normal_map_y, _Y)
     padding = _int_arg("padding", padding, 0, 4096)
     dp = _choice("depth", depth, _DEPTHS)
+    dom = _domain(period, seed)
+    _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable or None, got {progress!r}")
@@ -1038,7 +1043,7 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     def run(target, depth_code):
         return _c.mesh_bake(mesh_path, target, w, h, fn, octaves, lacunarity, gain, amplitude,
                             frequency, step, grad, m, sp, padding, tg, gy,
-                            int(bool(recompute_normals)), depth_code, nt, progress)
+                            int(bool(recompute_normals)), depth_code, nt, progress, *dom)
 
     if path is not None:
         return run(_os.fsdecode(path), dp)[4]

@@ -124,7 +124,7 @@ def bake_normal_map(mesh_path: Union[str, "os.PathLike[str]"], size: Union[int, 
                     padding: int = ..., tangents: Literal["mikktspace", "file"] = ...,
                     normal_map_y: Literal["+y", "-y"] = ..., recompute_normals: bool = ...,
                     depth: Union[None, int, str] = ..., udim: bool = ...,
-                    threads: Optional[int] = ...,
+                    period: _Period = ..., seed: int = ..., threads: Optional[int] = ...,
                     progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...
 def write_image(path: Union[str, "os.PathLike[str]"], image: npt.ArrayLike,
                 bits: Union[int, str] = ..., srgb: bool = ...) -> None: ...
@@ -139,7 +139,7 @@ def volume(bbox: Sequence[float], voxel_size: float,
            octaves: int = ..., lacunarity: float = ..., gain: float = ...,
            amplitude: float = ..., frequency: float = ...,
            gradient: Literal["analytic", "central"] = ..., step: float = ...,
-           threads: Optional[int] = ...,
+           period: _Period = ..., seed: int = ..., threads: Optional[int] = ...,
            progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...
 def render(scene: Literal["sphere", "blob", "torus"] = ..., *,
            mesh: Optional[Union[str, "os.PathLike[str]"]] = ...,

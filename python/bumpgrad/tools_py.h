@@ -80,7 +80,7 @@ static void progress_end(void *ctx)
 
 /* mesh_bake(input, path, width, height, function, octaves, lacunarity, gain, amplitude,
  *           frequency, gradient, step, method, space, padding, tangents, green_down,
- *           recompute_normals, depth, threads, progress|None)
+ *           recompute_normals, depth, threads, progress|None, (px, py, pz), seed)
  * -> (covered, padded, skipped, islands, [udim tiles]) */
 static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
 {
@@ -90,10 +90,12 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     int recompute, depth, threads;
     float lac, gain, amp, freq, step;
     PyObject *cb;
-    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO", &input, &path, &width, &height,
+    bg_domain dom = {{0, 0, 0}, 0};
+    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO(iii)I", &input, &path, &width, &height,
                           &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
                           &method, &space, &padding, &tangents, &green_down, &recompute, &depth,
-                          &threads, &cb))
+                          &threads, &cb, &dom.period[0], &dom.period[1], &dom.period[2],
+                          &dom.seed))
         return NULL;
     bgt_height h;
     bgt_height_init(&h);
@@ -105,6 +107,7 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     h.h.frequency = freq;
     h.h.gradient = (bg_gradient_mode)gradient;
     h.h.step = step;
+    h.h.domain = dom;
     bgt_mesh_opts o;
     memset(&o, 0, sizeof o);
     o.input = input;
@@ -231,7 +234,7 @@ static PyObject *py_heightmap(PyObject *self, PyObject *args)
 
 /* volume_bake(output, x0, y0, z0, x1, y1, z1, voxel, band (cx, cy, cz, r, w) | None, function,
  *             octaves, lacunarity, gain, amplitude, frequency, step, gradient, threads,
- *             progress|None) -> (voxels, (lo), (hi)) */
+ *             progress|None, (px, py, pz), seed) -> (voxels, (lo), (hi)) */
 static PyObject *py_volume_bake(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -240,10 +243,12 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
     PyObject *band, *cb;
     int function, octaves, gradient;
     float lac, gain, amp, freq, step;
-    if (!PyArg_ParseTuple(args, "sdddddddOiifffffiiO", &o.output, &o.bbox[0], &o.bbox[1],
+    bg_domain dom = {{0, 0, 0}, 0};
+    if (!PyArg_ParseTuple(args, "sdddddddOiifffffiiO(iii)I", &o.output, &o.bbox[0], &o.bbox[1],
                           &o.bbox[2], &o.bbox[3], &o.bbox[4], &o.bbox[5], &o.voxel, &band,
                           &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
-                          &o.threads, &cb))
+                          &o.threads, &cb, &dom.period[0], &dom.period[1], &dom.period[2],
+                          &dom.seed))
         return NULL;
     if (band != Py_None) {
         if (!PyArg_ParseTuple(band, "ddddd", &o.band[0], &o.band[1], &o.band[2], &o.band[3],
@@ -261,6 +266,7 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
     h.h.frequency = freq;
     h.h.gradient = (bg_gradient_mode)gradient;
     h.h.step = step;
+    h.h.domain = dom;
     o.height = &h;
     py_progress pp = {.cb = cb};
     bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
@@ -292,7 +298,7 @@ static void height_field_range(const job *j, size_t b, size_t e)
 }
 
 /* height_field(function, octaves, lacunarity, gain, amplitude, frequency, step, gradient,
- *              threads, x, y, z, height, gx, gy, gz): bgt_height_gradient, the
+ *              threads, x, y, z, height, gx, gy, gz, (px, py, pz), seed): bgt_height_gradient, the
  * function `bumpgrad volume` bakes (the fractal height; no grid). */
 static PyObject *py_height_field(PyObject *self, PyObject *args)
 {
@@ -300,9 +306,11 @@ static PyObject *py_height_field(PyObject *self, PyObject *args)
     int function, octaves, gradient, threads;
     float lac, gain, amp, freq, step;
     PyObject *o[7];
-    if (!PyArg_ParseTuple(args, "iifffffiiOOOOOOO", &function, &octaves, &lac, &gain, &amp,
+    bg_domain dom = {{0, 0, 0}, 0};
+    if (!PyArg_ParseTuple(args, "iifffffiiOOOOOOO(iii)I", &function, &octaves, &lac, &gain, &amp,
                           &freq, &step, &gradient, &threads, &o[0], &o[1], &o[2], &o[3], &o[4],
-                          &o[5], &o[6]))
+                          &o[5], &o[6], &dom.period[0], &dom.period[1], &dom.period[2],
+                          &dom.seed))
         return NULL;
     bgt_height h;
     bgt_height_init(&h);
@@ -314,6 +322,7 @@ static PyObject *py_height_field(PyObject *self, PyObject *args)
     h.h.frequency = freq;
     h.h.gradient = (bg_gradient_mode)gradient;
     h.h.step = step;
+    h.h.domain = dom;
     bgt_err e;
     bgt_err_clear(&e);
     bg_status s = bgt_height_open(&h, &e);

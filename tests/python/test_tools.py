@@ -80,6 +80,8 @@ def main():
              ["--space", "object", "--padding", "0", "--gradient", "central"]),
             (dict(normal_map_y="-y", method="additive", threads=1),
              ["--normal-map-y", "-y", "--method", "additive", "--threads", "1"]),
+            (dict(function="fbm", frequency=4.0, period=(4, 4, 2), seed=5),
+             ["--function", "fbm", "--frequency", "4", "--period", "4,4,2", "--seed", "5"]),
         ]
         for kw, args in cases:
             out = os.path.join(tmp, "cli.tif")
@@ -171,7 +173,8 @@ def main():
         # library's heights there (perturb_height), bit for bit; path= writes
         # the file the command writes.
         for voxel, kw in ((0.125, dict(function="fbm", amplitude=0.3, frequency=2.0)),
-                          (0.1, dict(octaves=3, gradient="central"))):
+                          (0.1, dict(octaves=3, gradient="central")),
+                          (0.125, dict(function="fbm", frequency=2.0, period=8, seed=9))):
             box = (-0.7, -0.5, 0.0, 0.6, 0.45, 0.55)
             hv, gv, lo = bumpgrad.volume(box, voxel, **kw)
             ii, jj, kk = np.meshgrid(*[np.arange(a, a + n) for a, n in zip(lo, hv.shape)],
