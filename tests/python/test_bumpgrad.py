@@ -240,7 +240,14 @@ def test_api(version):
         help(bumpgrad.noise3)
     check("grad" in buf.getvalue(), "help(bumpgrad.noise3)")
     import doctest
-    res = doctest.testmod(bumpgrad)
+    # Without the tools, the examples that run a tool (they return arrays) are
+    # skipped; those that show the tool's Error still run.
+    tool_examples = {"bumpgrad.heightmap", "bumpgrad.volume", "bumpgrad.render"}
+    runner = doctest.DocTestRunner()
+    for t in doctest.DocTestFinder().find(bumpgrad):
+        if bumpgrad.HAVE_TOOLS or t.name not in tool_examples:
+            runner.run(t)
+    res = runner.summarize(verbose=False)
     check(res.failed == 0 and res.attempted > 0, f"doctests: {res}")
     for name in bumpgrad.__all__:
         obj = getattr(bumpgrad, name)
