@@ -53,7 +53,8 @@ def fractal3(p: _Points, function: _Function, octaves: int, lacunarity: float, g
 @overload
 def fractal3(p: _Points, function: _Function = ..., octaves: int = ..., lacunarity: float = ...,
              gain: float = ..., *, gradient: Literal["analytic", "central"], step: float = ...,
-             period: _Period = ..., seed: int = ..., dtype: _DType = ..., out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
+             period: _Period = ..., seed: int = ..., dtype: _DType = ...,
+             out: Optional[Tuple[Optional[_Array], Optional[_Vec]]] = ...,
              threads: Optional[int] = ...) -> Tuple[_Scalar, _Vec]: ...
 def fbm3(p: _Points, octaves: int = ..., lacunarity: float = ..., gain: float = ...,
          gradient: _Gradient = ..., step: float = ..., *, period: _Period = ...,

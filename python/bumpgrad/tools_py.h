@@ -298,8 +298,8 @@ static void height_field_range(const job *j, size_t b, size_t e)
 }
 
 /* height_field(function, octaves, lacunarity, gain, amplitude, frequency, step, gradient,
- *              threads, x, y, z, height, gx, gy, gz, (px, py, pz), seed): bgt_height_gradient, the
- * function `bumpgrad volume` bakes (the fractal height; no grid). */
+ *              threads, x, y, z, height, gx, gy, gz, (px, py, pz), seed):
+ * bgt_height_gradient, the function `bumpgrad volume` bakes (the fractal height; no grid). */
 static PyObject *py_height_field(PyObject *self, PyObject *args)
 {
     (void)self;
@@ -388,15 +388,17 @@ static PyObject *py_render(PyObject *self, PyObject *args)
     int period[3];
     unsigned int seed;
     PyObject *cb;
-    if (!PyArg_ParseTuple(args, "ssziiisiifffffi(iii)IiO", &output, &scene, &mesh, &width, &height, &ss, &method,
-                          &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
-                          &period[0], &period[1], &period[2], &seed, &threads, &cb))
+    if (!PyArg_ParseTuple(args, "ssziiisiifffffi(iii)IiO", &output, &scene, &mesh, &width,
+                          &height, &ss, &method, &function, &octaves, &lac, &gain, &amp, &freq,
+                          &step, &gradient, &period[0], &period[1], &period[2], &seed, &threads,
+                          &cb))
         return NULL;
     render_opts o;
     render_opts_default(&o);
     render_shape shape;
     if (render_shape_parse(scene, &shape) != 0) {
-        PyErr_Format(PyExc_ValueError, "scene must be 'sphere', 'blob' or 'torus', got '%s'", scene);
+        PyErr_Format(PyExc_ValueError, "scene must be 'sphere', 'blob' or 'torus', got '%s'",
+                     scene);
         return NULL;
     }
     render_method m;

@@ -71,7 +71,8 @@ def main():
             check(same(img, ref), f"case {i} {kw}: differs from `bumpgrad render {' '.join(args)}`"
                   f" ({img.shape} vs {ref.shape})")
             check(float(np.ptp(img)) > 0.1, f"case {i}: a flat image")
-            check(len(calls) >= 2 and calls[-1][0] == calls[-1][1], f"case {i}: progress {calls[-3:]}")
+            check(len(calls) >= 2 and calls[-1][0] == calls[-1][1],
+                  f"case {i}: progress {calls[-3:]}")
         # The seed changes the picture; period= and seed= match the CLI above.
         a = bumpgrad.render(size=24, seed=1)
         b = bumpgrad.render(size=24, seed=2)
