@@ -35,17 +35,11 @@ static int same_vg(size_t n, const float *v0, const float *x0, const float *y0, 
 }
 
 /* Lattice, near-lattice, +-0, large, huge, NaN/Inf and plain points. */
-static float coord(void)
+static float plain_coord(unsigned k)
 {
-    float i = (float)((int)(rng_u64() % 1201) - 600);
-    unsigned k = (unsigned)(rng_u64() % 20);
-    if (k < SPECIAL_COORDS)
-        return special_coord(k, i);
-    switch (k) {
-    case 9: return rng_range(-3e7, 3e7);
-    default: return rng_range(-300, 300);
-    }
+    return k == 9 ? rng_range(-3e7, 3e7) : rng_range(-300, 300);
 }
+static float coord(void) { return mixed_coord(20, plain_coord); }
 
 /* A dyadic coordinate k / 1024 in [-64, 64): p + P (P <= 256) stays exact. */
 static float dyadic(void) { return (float)((int)(rng_u64() % 131072) - 65536) / 1024.0f; }

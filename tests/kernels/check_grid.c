@@ -13,12 +13,8 @@
 #include "check_standalone.h"
 
 /* Lattice, near-lattice, +-0, large, huge, NaN/Inf, subnormal and plain points. */
-static float coord(void)
+static float plain_coord(unsigned k)
 {
-    float i = (float)((int)(rng_u64() % 1201) - 600);
-    unsigned k = (unsigned)(rng_u64() % 24);
-    if (k < SPECIAL_COORDS)
-        return special_coord(k, i);
     switch (k) {
     case 9: return 1e-40f;
     case 10: return 255.99998f;
@@ -26,6 +22,7 @@ static float coord(void)
     default: return rng_range(-300, 300);
     }
 }
+static float coord(void) { return mixed_coord(24, plain_coord); }
 
 /* Octave counts around every lane count (1, 4, 8, 16: chunks of 1, tails),
  * both sums, lacunarities and gains that are not powers of two. */

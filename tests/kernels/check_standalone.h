@@ -65,4 +65,14 @@ static inline float special_coord(unsigned k, float i)
     }
 }
 
+/* One coordinate of CLASSES classes, drawn uniformly: the first
+ * SPECIAL_COORDS the special ones near a lattice point in [-600, 600], the
+ * others EXTRA(class). */
+static inline float mixed_coord(unsigned classes, float (*extra)(unsigned k))
+{
+    float i = (float)((int)(rng_u64() % 1201) - 600);
+    unsigned k = (unsigned)(rng_u64() % classes);
+    return k < SPECIAL_COORDS ? special_coord(k, i) : extra(k);
+}
+
 #endif
