@@ -264,10 +264,11 @@ static int run_heightmap(void *args, const char *const *pos, int npos)
         print_generate_text(&a, dt);
         if (a.json)
             print_generate_json(&a, pos[0], dt);
-    } else if (a.json) {
-        print_json(&a, pos[0], pos[1], dt);
-    } else {
-        print_text(pos[0], pos[1], dt);
+        return CLI_OK;
     }
+    if (a.json)
+        print_json(&a, pos[0], pos[1], dt);
+    else
+        print_text(pos[0], pos[1], dt);
     return CLI_OK;
 }
