@@ -74,6 +74,25 @@ def two_quads(d, left, right, names=("left", "right"), right_first=False):
     return mesh
 
 
+def ppm_header(data):
+    """(width, height, maxval, offset of the pixels) of a binary PPM (P6) in
+    DATA, comments in the header skipped."""
+    fields, pos = [], 0
+    while len(fields) < 4:
+        while data[pos:pos + 1].isspace():
+            pos += 1
+        if data[pos:pos + 1] == b"#":
+            pos = data.index(b"\n", pos) + 1
+            continue
+        end = pos
+        while not data[end:end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    assert fields[0] == b"P6", fields
+    return int(fields[1]), int(fields[2]), int(fields[3]), pos + 1
+
+
 def finish(name):
     """The verdict line; the exit status for sys.exit."""
     if FAILURES:

@@ -184,68 +184,88 @@ static void print_json(const heightmap_args *a, const char *in, const char *out,
     cli_json_end(&j);
 }
 
-static int run_generate(const heightmap_args *a, const char *out)
+/* The text of a --generate run: one line with -v. */
+static void print_generate_text(const heightmap_args *a, double dt)
 {
-    if (strcmp(out, "-") == 0 && a->json)
+    cli_info(CMD, "%dx%d %s map, one period %d x %d (noise space) in %.3f s", a->gen[0], a->gen[1],
+             map_choices[a->map], a->height.h.domain.period[0], a->height.h.domain.period[1], dt);
+}
+
+/* One JSON object of a --generate run and its parameters (--json). */
+static void print_generate_json(const heightmap_args *a, const char *out, double dt)
+{
+    cli_json j;
+    cli_json_begin(&j, stdout);
+    cli_json_common(&j, CMD, dt);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "output", out);
+    cli_json_ints(&j, "generate", a->gen, 2);
+    cli_json_str(&j, "map", map_choices[a->map]);
+    cli_json_bool(&j, "y_down", a->y_down);
+    cli_json_height(&j, "height", &a->height);
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
+
+/* --generate: the arguments checked, the generator's options in *OPTS. */
+static int generate_opts(const heightmap_args *a, const char *const *pos, int npos,
+                         bgt_generate_opts *opts)
+{
+    if (npos != 1 || a->to_derivative)
+        return cli_usage_error(CMD, "--generate writes OUT alone: expected one OUT, no IN "
+                                    "and no --to-derivative");
+    if (strcmp(pos[0], "-") == 0 && a->json)
         return cli_usage_error(CMD, "--json writes to standard output: give OUT a file name");
     if (cli_domain_check(CMD, &a->height.h.fractal, &a->height.h.domain))
         return CLI_USAGE;
-    bgt_generate_opts opts = {.output = out, .height = &a->height, .width = a->gen[0],
-                              .height_px = a->gen[1], .map = (bgt_map_kind)a->map,
-                              .y_down = a->y_down, .bits = a->bits, .format = a->format,
-                              .threads = a->threads};
-    bgt_err err;
-    double t0 = cli_now();
-    bg_status st = bgt_generate_run(&opts, &err);
-    double dt = cli_now() - t0;
-    if (st != BG_OK)
-        return cli_report(CMD, st, &err);
-    cli_info(CMD, "%dx%d %s map, one period %d x %d (noise space) in %.3f s", a->gen[0], a->gen[1],
-             map_choices[a->map], a->height.h.domain.period[0], a->height.h.domain.period[1], dt);
-    if (a->json) {
-        cli_json j;
-        cli_json_begin(&j, stdout);
-        cli_json_common(&j, CMD, dt);
-        cli_json_object(&j, "parameters");
-        cli_json_str(&j, "output", out);
-        cli_json_ints(&j, "generate", a->gen, 2);
-        cli_json_str(&j, "map", map_choices[a->map]);
-        cli_json_bool(&j, "y_down", a->y_down);
-        cli_json_height(&j, "height", &a->height);
-        cli_json_close(&j);
-        cli_json_end(&j);
-    }
+    *opts = (bgt_generate_opts){.output = pos[0], .height = &a->height, .width = a->gen[0],
+                                .height_px = a->gen[1], .map = (bgt_map_kind)a->map,
+                                .y_down = a->y_down, .bits = a->bits, .format = a->format,
+                                .threads = a->threads};
+    return CLI_OK;
+}
+
+/* IN OUT: the arguments checked, the converter's options in *OPTS. */
+static int convert_opts(const heightmap_args *a, const char *const *pos, int npos,
+                        bgt_heightmap_opts *opts)
+{
+    if (a->height.h.domain.seed || a->height.h.domain.period[0] || a->height.h.domain.period[1] ||
+        a->height.h.domain.period[2])
+        return cli_usage_error(CMD, "--period and --seed apply with --generate");
+    if (npos != 2)
+        return cli_usage_error(CMD, "expected IN OUT (see bumpgrad heightmap --help)");
+    if (a->json && strcmp(pos[1], "-") == 0)
+        return cli_usage_error(CMD, "--json writes to standard output: give OUT a file name");
+    if (!isfinite(a->strength))
+        return cli_usage_error(CMD, "--strength: must be finite");
+    *opts = (bgt_heightmap_opts){.input = pos[0], .output = pos[1], .gray = (bgt_gray)a->gray,
+                                 .strength = a->strength, .wrap = a->wrap, .y_down = a->y_down,
+                                 .to_derivative = a->to_derivative, .bits = a->bits,
+                                 .format = a->format, .input_format = a->input_format};
     return CLI_OK;
 }
 
 static int run_heightmap(void *args, const char *const *pos, int npos)
 {
     heightmap_args a = *(heightmap_args *)args;
-    if (a.gen[0]) {
-        if (npos != 1 || a.to_derivative)
-            return cli_usage_error(CMD, "--generate writes OUT alone: expected one OUT, no IN "
-                                        "and no --to-derivative");
-        return run_generate(&a, pos[0]);
-    }
-    if (a.height.h.domain.seed || a.height.h.domain.period[0] || a.height.h.domain.period[1] ||
-        a.height.h.domain.period[2])
-        return cli_usage_error(CMD, "--period and --seed apply with --generate");
-    if (npos != 2)
-        return cli_usage_error(CMD, "expected IN OUT (see bumpgrad heightmap --help)");
-    if (a.json && strcmp(pos[1], "-") == 0)
-        return cli_usage_error(CMD, "--json writes to standard output: give OUT a file name");
-    if (!isfinite(a.strength))
-        return cli_usage_error(CMD, "--strength: must be finite");
-    bgt_heightmap_opts opts = {.input = pos[0], .output = pos[1], .gray = (bgt_gray)a.gray,
-                               .strength = a.strength, .wrap = a.wrap, .y_down = a.y_down,
-                               .to_derivative = a.to_derivative, .bits = a.bits,
-                               .format = a.format, .input_format = a.input_format};
+    const int generate = a.gen[0] != 0;
+    bgt_generate_opts gen;
+    bgt_heightmap_opts conv;
+    int rc = generate ? generate_opts(&a, pos, npos, &gen) : convert_opts(&a, pos, npos, &conv);
+    if (rc != CLI_OK)
+        return rc;
     bgt_err err;
     double t0 = cli_now();
-    bg_status st = bgt_heightmap_run(&opts, &err);
+    bg_status st = generate ? bgt_generate_run(&gen, &err) : bgt_heightmap_run(&conv, &err);
     double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(CMD, st, &err);
+    if (generate) {
+        print_generate_text(&a, dt);
+        if (a.json)
+            print_generate_json(&a, pos[0], dt);
+        return CLI_OK;
+    }
     if (a.json)
         print_json(&a, pos[0], pos[1], dt);
     else

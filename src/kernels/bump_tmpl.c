@@ -963,10 +963,13 @@ BG_INLINE void perturb_height_impl(const bg_height *h, bg_perturb_method m, cons
 #endif
 }
 
-void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,
-                            const bg_real *px, const bg_real *py, const bg_real *pz,
-                            const bg_real *nx, const bg_real *ny, const bg_real *nz, size_t n,
-                            bg_real *height, bg_real *ox, bg_real *oy, bg_real *oz)
+/* Both entry points below: the domain's lattice set up when the height has
+ * one. Inlined into each, so that fp == NULL stays a constant in the plain one. */
+BG_INLINE void perturb_height_entry(const bg_height *h, bg_perturb_method m, const bg_real *fp,
+                                    const bg_real *px, const bg_real *py, const bg_real *pz,
+                                    const bg_real *nx, const bg_real *ny, const bg_real *nz,
+                                    size_t n, bg_real *height, bg_real *ox, bg_real *oy,
+                                    bg_real *oz)
 {
     if (bg_domain_is_set(&h->domain)) {
         octlat L;
@@ -977,18 +980,20 @@ void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_re
     }
 }
 
+void KFN(perturb_height_fp)(const bg_height *h, bg_perturb_method m, const bg_real *fp,
+                            const bg_real *px, const bg_real *py, const bg_real *pz,
+                            const bg_real *nx, const bg_real *ny, const bg_real *nz, size_t n,
+                            bg_real *height, bg_real *ox, bg_real *oy, bg_real *oz)
+{
+    perturb_height_entry(h, m, fp, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
+}
+
 void KFN(perturb_height)(const bg_height *h, bg_perturb_method m, const bg_real *px,
                          const bg_real *py, const bg_real *pz, const bg_real *nx,
                          const bg_real *ny, const bg_real *nz, size_t n, bg_real *height,
                          bg_real *ox, bg_real *oy, bg_real *oz)
 {
-    if (bg_domain_is_set(&h->domain)) {
-        octlat L;
-        octlat_init(&L, &h->fractal, &h->domain);
-        perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz, &L);
-    } else {
-        perturb_height_impl(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz, NULL);
-    }
+    perturb_height_entry(h, m, NULL, px, py, pz, nx, ny, nz, n, height, ox, oy, oz);
 }
 #endif
 

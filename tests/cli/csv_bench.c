@@ -14,19 +14,9 @@
 #include <time.h>
 #include <unistd.h>
 #include "common/csv.h"
+#include "../common/timing.h"
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
+static double now(void) { return timing_clock_s(CLOCK_PROCESS_CPUTIME_ID); }
 
 static double run(const char *path, size_t *rows_out)
 {
@@ -95,7 +85,7 @@ int main(int argc, char **argv)
     unlink(path);
     double med[2];
     for (int fast = 0; fast < 2; fast++) {
-        qsort(ts[fast], REPS, sizeof ts[fast][0], cmp_double);
+        qsort(ts[fast], REPS, sizeof ts[fast][0], timing_cmp_double);
         med[fast] = ts[fast][REPS / 2];
     }
     printf("csv parse, %zu rows x 3 floats, median of %d interleaved runs (CPU time): strtof "

@@ -13,18 +13,13 @@ import re
 import subprocess
 import sys
 import tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
 SRC = os.path.abspath(sys.argv[2])
 TOOLS = sys.argv[3] == "true"
-FAILURES = []
-
-
-def check(cond, what):
-    if not cond:
-        FAILURES.append(what)
-        print("FAIL:", what)
-    return cond
+QUIET[0] = True  # failures only
 
 
 def run(args, cwd=None):
@@ -101,5 +96,4 @@ if TOOLS:
                           "--fail-above", "90", "-q", "-o", "cmp.png"], cwd=d)
         check(rc == 0, "render --fail-above 90: rc %d, %r" % (rc, err))
 
-print("%d failure(s)" % len(FAILURES) if FAILURES else "help text: all checks passed")
-sys.exit(1 if FAILURES else 0)
+sys.exit(finish("help text"))

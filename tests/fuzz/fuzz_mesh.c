@@ -12,19 +12,12 @@
  * every index is below vertex_count, normals and UVs are all-or-none. */
 #define _GNU_SOURCE
 #include "bumpgrad/mesh.h"
+#define FUZZ_WATCHDOG /* fuzz_util.h starts the watchdog in LLVMFuzzerInitialize */
 #include "fuzz_util.h"
 
 static const char *const exts[] = {"ply", "obj", "off", "stl", "gltf", "glb", "dae", "3ds",
                                    "fbx", "x",   "ase", "smd", "ms3d", "md2", "ac",  "raw"};
 static const unsigned flag_choice[] = {0, 1, 2, 4, 5, 6};
-
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    fuzz_watchdog_start();
-    return 0;
-}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -245,6 +245,19 @@ static inline void fuzz_watchdog_start(void)
     pthread_attr_destroy(&a);
 }
 
+/* With FUZZ_WATCHDOG defined before the include, the harness's libFuzzer
+ * initializer is this one: it starts the watchdog before the first input. */
+#ifdef FUZZ_WATCHDOG
+int LLVMFuzzerInitialize(int *argc, char ***argv);
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc;
+    (void)argv;
+    fuzz_watchdog_start();
+    return 0;
+}
+#endif
+
 static inline void fuzz_watchdog_arm(void)
 {
     atomic_store(&fuzz_wd_fired, 0);

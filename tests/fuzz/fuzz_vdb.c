@@ -12,15 +12,8 @@
 #define _GNU_SOURCE
 #include <math.h>
 #include "bumpgrad/volume.h"
+#define FUZZ_WATCHDOG /* fuzz_util.h starts the watchdog in LLVMFuzzerInitialize */
 #include "fuzz_util.h"
-
-int LLVMFuzzerInitialize(int *argc, char ***argv)
-{
-    (void)argc;
-    (void)argv;
-    fuzz_watchdog_start();
-    return 0;
-}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

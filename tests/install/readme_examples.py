@@ -13,17 +13,12 @@ import re
 import subprocess
 import sys
 import tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
 
 readme, src, build, cc = sys.argv[1:5]
 text = open(readme, encoding="utf-8").read()
-failures = []
-
-
-def check(cond, what):
-    if not cond:
-        failures.append(what)
-        print("FAIL:", what)
-    return cond
+QUIET[0] = True  # failures only
 
 
 def block(lang):
@@ -64,5 +59,4 @@ with tempfile.TemporaryDirectory() as d:
         else:
             print("Python example: skipped (no bumpgrad package in %s)" % pydir)
 
-print("%d failure(s)" % len(failures) if failures else "README examples: all checks passed")
-sys.exit(1 if failures else 0)
+sys.exit(finish("README examples"))

@@ -17,54 +17,29 @@
 #include <stdlib.h>
 #include <string.h>
 #include "kernels/kernels.h"
+#define CHECK_RNG_SEED 0x243f6a8885a308d3ull
+#include "check_standalone.h"
 
-static long failures, checks;
-
-static void fail(const char *what, const char *isa)
-{
-    failures++;
-    if (failures <= 30)
-        fprintf(stderr, "FAIL: %s (%s)\n", what, isa);
-}
 #define CHECK(c, what, isa) (checks++, (c) ? (void)0 : fail(what, isa))
 
-static uint64_t rng_state = 0x243f6a8885a308d3ull;
-static uint64_t rng_u64(void)
+/* v0 == v1 and (x0, y0, z0) == (x1, y1, z1) bit for bit over [0, n): a value
+ * and its gradient (or a perturbed normal) against another's. */
+static int same_vg(size_t n, const float *v0, const float *x0, const float *y0, const float *z0,
+                   const float *v1, const float *x1, const float *y1, const float *z1)
 {
-    rng_state ^= rng_state << 13, rng_state ^= rng_state >> 7, rng_state ^= rng_state << 17;
-    return rng_state;
-}
-static float rng_range(double a, double b)
-{
-    return (float)(a + (b - a) * (double)(rng_u64() >> 11) * 0x1p-53);
-}
-
-static int same_bits(float a, float b)
-{
-    uint32_t ua, ub;
-    memcpy(&ua, &a, sizeof ua);
-    memcpy(&ub, &b, sizeof ub);
-    return ua == ub;
+    int ok = 1;
+    for (size_t i = 0; i < n; i++)
+        ok &= same_bits(v0[i], v1[i]) && same_bits(x0[i], x1[i]) && same_bits(y0[i], y1[i]) &&
+              same_bits(z0[i], z1[i]);
+    return ok;
 }
 
 /* Lattice, near-lattice, +-0, large, huge, NaN/Inf and plain points. */
-static float coord(void)
+static float plain_coord(unsigned k)
 {
-    float i = (float)((int)(rng_u64() % 1201) - 600);
-    switch (rng_u64() % 20) {
-    case 0: return i;
-    case 1: return nextafterf(i, INFINITY);
-    case 2: return nextafterf(i, -INFINITY);
-    case 3: return 0.0f;
-    case 4: return -0.0f;
-    case 5: return rng_range(-1e7, 1e7);
-    case 6: return (rng_u64() & 1) ? 3e38f : -3e38f;
-    case 7: return NAN;
-    case 8: return (rng_u64() & 1) ? INFINITY : -INFINITY;
-    case 9: return rng_range(-3e7, 3e7);
-    default: return rng_range(-300, 300);
-    }
+    return k == 9 ? rng_range(-3e7, 3e7) : rng_range(-300, 300);
 }
+static float coord(void) { return mixed_coord(20, plain_coord); }
 
 /* A dyadic coordinate k / 1024 in [-64, 64): p + P (P <= 256) stays exact. */
 static float dyadic(void) { return (float)((int)(rng_u64() % 131072) - 65536) / 1024.0f; }
@@ -106,10 +81,7 @@ static void check_isa(const bg_kernel_table *t)
         for (size_t n = 1; n <= N; n += (n < 40 ? 1 : 27)) {
             bg_kernels_c.dfractal3_grad(f, &d, x, y, z, n, v0, g0[0], g0[1], g0[2]);
             t->dfractal3_grad(f, &d, x, y, z, n, v1, g1[0], g1[1], g1[2]);
-            int ok = 1;
-            for (size_t i = 0; i < n; i++)
-                ok &= same_bits(v0[i], v1[i]) && same_bits(g0[0][i], g1[0][i]) &&
-                      same_bits(g0[1][i], g1[1][i]) && same_bits(g0[2][i], g1[2][i]);
+            int ok = same_vg(n, v0, g0[0], g0[1], g0[2], v1, g1[0], g1[1], g1[2]);
             CHECK(ok, "dfractal3_grad equals the scalar kernel", t->name);
             t->dfractal3(f, &d, x, y, z, n, v1);
             ok = 1;
@@ -119,10 +91,7 @@ static void check_isa(const bg_kernel_table *t)
         }
         bg_kernels_c.dfractal3_grad_central(f, &d, 1e-3f, x, y, z, N, v0, g0[0], g0[1], g0[2]);
         t->dfractal3_grad_central(f, &d, 1e-3f, x, y, z, N, v1, g1[0], g1[1], g1[2]);
-        int ok = 1;
-        for (int i = 0; i < N; i++)
-            ok &= same_bits(v0[i], v1[i]) && same_bits(g0[0][i], g1[0][i]) &&
-                  same_bits(g0[1][i], g1[1][i]) && same_bits(g0[2][i], g1[2][i]);
+        int ok = same_vg(N, v0, g0[0], g0[1], g0[2], v1, g1[0], g1[1], g1[2]);
         CHECK(ok, "dfractal3_grad_central equals the scalar kernel", t->name);
 
         /* The fused height path with a domain. */
@@ -135,10 +104,7 @@ static void check_isa(const bg_kernel_table *t)
         bg_kernels_c.perturb_height(&h, BG_PERTURB_SURFGRAD, x, y, z, nx, ny, nz, N, v0, o0[0],
                                     o0[1], o0[2]);
         t->perturb_height(&h, BG_PERTURB_SURFGRAD, x, y, z, nx, ny, nz, N, v1, o1[0], o1[1], o1[2]);
-        ok = 1;
-        for (int i = 0; i < N; i++)
-            ok &= same_bits(v0[i], v1[i]) && same_bits(o0[0][i], o1[0][i]) &&
-                  same_bits(o0[1][i], o1[1][i]) && same_bits(o0[2][i], o1[2][i]);
+        ok = same_vg(N, v0, o0[0], o0[1], o0[2], v1, o1[0], o1[1], o1[2]);
         CHECK(ok, "perturb_height with a domain equals the scalar kernel", t->name);
     }
 
@@ -151,10 +117,7 @@ static void check_isa(const bg_kernel_table *t)
             x[i] = coord(), y[i] = coord(), z[i] = coord();
         t->fractal3_grad(f, x, y, z, N, v0, g0[0], g0[1], g0[2]);
         t->dfractal3_grad(f, &d, x, y, z, N, v1, g1[0], g1[1], g1[2]);
-        int ok = 1;
-        for (int i = 0; i < N; i++)
-            ok &= same_bits(v0[i], v1[i]) && same_bits(g0[0][i], g1[0][i]) &&
-                  same_bits(g0[1][i], g1[1][i]) && same_bits(g0[2][i], g1[2][i]);
+        int ok = same_vg(N, v0, g0[0], g0[1], g0[2], v1, g1[0], g1[1], g1[2]);
         CHECK(ok, "period 256 is Perlin's noise", t->name);
     }
 }
@@ -181,10 +144,7 @@ static void check_periodic(void)
                 xs[i] = c[i] + (float)(d.period[a] * (1 + (int)(rng_u64() % 2)));
             bg_fractal3_domain_grad_batch(f, &d, a == 0 ? xs : x, a == 1 ? xs : y, a == 2 ? xs : z,
                                           M, v1, g1[0], g1[1], g1[2]);
-            int ok = 1;
-            for (int i = 0; i < M; i++)
-                ok &= same_bits(v0[i], v1[i]) && same_bits(g0[0][i], g1[0][i]) &&
-                      same_bits(g0[1][i], g1[1][i]) && same_bits(g0[2][i], g1[2][i]);
+            int ok = same_vg(M, v0, g0[0], g0[1], g0[2], v1, g1[0], g1[1], g1[2]);
             CHECK(ok, "f(p + P e_a) == f(p) (float)", "api");
         }
         /* double */

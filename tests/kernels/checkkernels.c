@@ -33,6 +33,7 @@
 #include <time.h>
 
 #include "checkkernels.h"
+#include "../common/timing.h"
 
 int failures;
 long checks;
@@ -407,18 +408,7 @@ void check_close_u(const char *what, double got, double want, double eps, double
 
 /* ---- benchmark ------------------------------------------------------------ */
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
+static double now_s(void) { return timing_clock_s(CLOCK_MONOTONIC); }
 
 /* The benchmarked cases (also what --run executes). */
 static const struct bench_case {
@@ -459,7 +449,7 @@ static double bench_one(const bg_kernel_table *t, enum kid k, const params *p, f
         call_new(t, k, p, in, n, out);
         ts[r] = (now_s() - t0) * 1e9 / (double)n;
     }
-    qsort(ts, (size_t)reps, sizeof ts[0], cmp_double);
+    qsort(ts, (size_t)reps, sizeof ts[0], timing_cmp_double);
     *best = ts[0];
     return ts[reps / 2];
 }

@@ -21,7 +21,7 @@ import sys
 import tempfile
 
 import numpy as np
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from mesh_util import grid_triangles, read_image  # noqa: E402  (and tests/ on the path)
 from harness import FAILURES, check  # noqa: E402
 
 GROUP, BUMPGRAD, ORACLE, MODELS = sys.argv[1:5]
@@ -137,14 +137,6 @@ def oracle_perturb(tmp, p, n, method="surfgrad"):
                    check=True)
     out = np.fromfile(fout, np.float32).reshape(-1, 4)
     return out[:, 0].astype(np.float64), out[:, 1:].astype(np.float64)
-
-
-def oracle_image(tmp, path):
-    fout = os.path.join(tmp, "image.f32")
-    subprocess.run([ORACLE, "image", path, fout], check=True)
-    raw = np.fromfile(fout, np.uint8)
-    w, h, c = np.frombuffer(raw[:12].tobytes(), np.int32)
-    return np.frombuffer(raw[12:].tobytes(), np.float32).reshape(h, w, c).astype(np.float64)
 
 
 def angle_weighted_normals(P, F):
@@ -489,19 +481,14 @@ def bake_plane(tmp, mapping, space):
         uv = np.stack([y, 1 - x], 1)
     else:  # mirror: u runs along -x, an orientation-reversing layout
         uv = np.stack([1 - x, y], 1)
-    faces = []
-    for j in range(n):
-        for i in range(n):
-            a, b, c, d = j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, \
-                (j + 1) * (n + 1) + i
-            faces += [(a, b, c), (a, c, d)]
+    faces = grid_triangles(n, n)
     src = os.path.join(tmp, "plane_%s.ply" % mapping)
     write_ply_ascii(src, pos, faces, nrm, uv)
     img = os.path.join(tmp, "plane_%s_%s.exr" % (mapping, space))
     W, H = 24, 16
     p = run([src, "--bake-normal-map", img, "--size", "%dx%d" % (W, H), "--space", space,
              "--bake-depth", "float", "--padding", "0"] + HEIGHT, 0)
-    pix = oracle_image(tmp, img)
+    pix = read_image(ORACLE, tmp, img)
     # Texel centre -> (u, v) -> position on the plane.
     u = (np.arange(W) + 0.5) / W
     v = 1 - (np.arange(H) + 0.5) / H
@@ -547,12 +534,7 @@ def group_bake(tmp):
     nrm = np.stack([np.cos(th_v), np.sin(th_v), 0 * z_v], 1)
     tan = np.stack([-np.sin(th_v), np.cos(th_v), 0 * z_v], 1)
     uv = np.stack([th_v / (np.pi / 2), z_v], 1)
-    faces = []
-    for j in range(nz):
-        for i in range(nt):
-            a, b, c, d = j * (nt + 1) + i, j * (nt + 1) + i + 1, (j + 1) * (nt + 1) + i + 1, \
-                (j + 1) * (nt + 1) + i
-            faces += [(a, b, c), (a, c, d)]
+    faces = grid_triangles(nt, nz)
     src = os.path.join(tmp, "cyl.ply")
     write_ply_ascii(src, pos.astype(np.float32), faces, nrm.astype(np.float32),
                     uv.astype(np.float32))
@@ -560,7 +542,7 @@ def group_bake(tmp):
     img = os.path.join(tmp, "cyl.exr")
     run([src, "--bake-normal-map", img, "--size", str(W), "--bake-depth", "float", "--quiet"] +
         HEIGHT, 0)
-    m = oracle_image(tmp, img).reshape(-1, 3) * 2 - 1
+    m = read_image(ORACLE, tmp, img).reshape(-1, 3) * 2 - 1
     u = (np.arange(W) + 0.5) / W
     v = 1 - (np.arange(H) + 0.5) / H
     U, V = (a.ravel() for a in np.meshgrid(u, v))
@@ -595,7 +577,7 @@ def group_bake(tmp):
     info = subprocess.run(["iinfo", png], capture_output=True, text=True).stdout
     check(re.search(r"128 x +64, 3 channel, uint8 png", info) is not None,
           "iinfo: 128 x 64, 3 channels (%s)" % info.strip())
-    pix = oracle_image(tmp, png)
+    pix = read_image(ORACLE, tmp, png)
     bg = np.all(np.abs(pix - [0.5, 0.5, 1.0]) < 1 / 255, axis=2)
     cov = 1 - bg.mean()
     check(0.05 < cov < 0.95, "Wuson: a part of the map is baked (%.0f%%)" % (100 * cov))
@@ -645,7 +627,7 @@ def group_formats(tmp):
     p2 = run(["--quiet", "--tangents", "file", "--bake-normal-map", m2,
               "--bake-depth", "float", "--size", "64", glb])
     if p1.returncode == 0 and p2.returncode == 0:
-        d = np.abs(oracle_image(tmp, m1) - oracle_image(tmp, m2)).max()
+        d = np.abs(read_image(ORACLE, tmp, m1) - read_image(ORACLE, tmp, m2)).max()
         check(d < 1e-4, "--tangents file = mikktspace on our glb (max %.2g)" % d)
     else:
         check(False, "--tangents bakes ran")
@@ -655,7 +637,7 @@ def group_formats(tmp):
     # --normal-map-y -y negates the green channel only
     p = run(["--quiet", "--normal-map-y", "-y", "--bake-normal-map", m2,
              "--bake-depth", "float", "--size", "64", glb])
-    a, b = oracle_image(tmp, m1), oracle_image(tmp, m2)
+    a, b = read_image(ORACLE, tmp, m1), read_image(ORACLE, tmp, m2)
     check(p.returncode == 0 and np.abs(a[..., 0] - b[..., 0]).max() == 0
           and np.abs((2 * a[..., 1] - 1) + (2 * b[..., 1] - 1)).max() < 1e-6,
           "--normal-map-y -y flips green only")
@@ -701,8 +683,8 @@ def group_udim(tmp):
         udim_mesh(shifted, tiles, (a, b))
         single = os.path.join(tmp, "single_%d%d.exr" % (a, b))
         q = run([shifted, "--quiet", "--bake-normal-map", single] + size, 0)
-        got = oracle_image(tmp, os.path.join(out, "n.%d.exr" % (1001 + a + 10 * b)))
-        want = oracle_image(tmp, single)
+        got = read_image(ORACLE, tmp, os.path.join(out, "n.%d.exr" % (1001 + a + 10 * b)))
+        want = read_image(ORACLE, tmp, single)
         flat = np.all(np.abs(want - 0.5) < 1e-12, axis=2)
         check(q.returncode == 0 and got.shape == want.shape == (8, 16, 3)
               and np.array_equal(got, want) and flat.sum() < flat.size // 2,

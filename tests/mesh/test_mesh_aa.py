@@ -22,27 +22,12 @@ import time
 import numpy as np
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mesh_util import read_image, texel_cover  # noqa: E402
+from harness import check, finish  # noqa: E402
 from make_cubesphere import cubesphere, write_obj  # noqa: E402
 from gltf_read import Gltf  # noqa: E402
 
 BUMPGRAD, ORACLE, MODELS = sys.argv[1:4]
-FAILS = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILS.append(what)
-
-
-def read_image(tmp, path):
-    fout = os.path.join(tmp, "image.f32")
-    subprocess.run([ORACLE, "image", path, fout], check=True)
-    raw = np.fromfile(fout, np.uint8)
-    w, h, c = np.frombuffer(raw[:12].tobytes(), np.int32)
-    return np.frombuffer(raw[12:].tobytes(), np.float32).reshape(h, w, c).astype(np.float64)
-
 
 def bake(tmp, src, n, extra):
     out = os.path.join(tmp, "aa_%d.exr" % n)
@@ -51,7 +36,7 @@ def bake(tmp, src, n, extra):
                     "--space", "object", "--padding", "0", "--bake-depth", "float"] + extra,
                    check=True, stderr=subprocess.DEVNULL)
     dt = time.perf_counter() - t0
-    v = 2.0 * read_image(tmp, out) - 1.0
+    v = 2.0 * read_image(ORACLE, tmp, out) - 1.0
     os.remove(out)
     return v, dt
 
@@ -71,18 +56,9 @@ def owners(tmp, src, sizes):
                 continue
             for n, own in zip(sizes, out):
                 x, y = UV[t, 0] * n, UV[t, 1] * n
-                area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
-                if area == 0:
-                    continue
-                xs = np.arange(max(np.ceil(x.min() - 0.5), 0), min(np.floor(x.max() - 0.5), n - 1) + 1)
-                ys = np.arange(max(np.ceil(y.min() - 0.5), 0), min(np.floor(y.max() - 0.5), n - 1) + 1)
-                if not len(xs) or not len(ys):
-                    continue
-                cx, cy = np.meshgrid(xs + 0.5, ys + 0.5)
-                l0 = ((x[2] - x[1]) * (cy - y[1]) - (y[2] - y[1]) * (cx - x[1])) / area
-                l1 = ((x[0] - x[2]) * (cy - y[2]) - (y[0] - y[2]) * (cx - x[2])) / area
-                inside = (l0 >= 0) & (l1 >= 0) & (1 - l0 - l1 >= 0)
-                own[(cy[inside] - 0.5).astype(int), (cx[inside] - 0.5).astype(int)] = pi
+                cover = texel_cover(x, y, n, n)
+                if cover is not None:
+                    own[cover[0], cover[1]] = pi
     return out
 
 
@@ -150,8 +126,7 @@ def main():
         check(d[0] < 0.7 * n[0] and d[1] < n[1],
               "spider.obj, defaults: below 0.7 x the unfiltered mean and below its p99 "
               "(%.3f vs %.3f, %.3f vs %.3f)" % (d[0], n[0], d[1], n[1]))
-    print("%d failures" % len(FAILS))
-    return 1 if FAILS else 0
+    return finish("mesh_aa")
 
 
 if __name__ == "__main__":

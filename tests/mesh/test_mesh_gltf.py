@@ -19,18 +19,12 @@ import tempfile
 import numpy as np
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mesh_util import read_image, texel_cover  # noqa: E402
+from harness import FAILURES, check, finish  # noqa: E402
 from gltf_read import Gltf  # noqa: E402
 
 BUMPGRAD, ORACLE, MODELS = sys.argv[1:4]
-FAILS = []
 N = 256
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILS.append(what)
 
 
 def run(args):
@@ -38,14 +32,6 @@ def run(args):
     if p.returncode != 0:
         print(p.stdout, p.stderr)
     return p
-
-
-def read_image(tmp, path):
-    fout = os.path.join(tmp, "image.f32")
-    subprocess.run([ORACLE, "image", path, fout], check=True)
-    raw = np.fromfile(fout, np.uint8)
-    w, h, c = np.frombuffer(raw[:12].tobytes(), np.int32)
-    return np.frombuffer(raw[12:].tobytes(), np.float32).reshape(h, w, c).astype(np.float64)
 
 
 def rasterize(P, UV, tris, W, H, edge=1e-4):
@@ -63,22 +49,14 @@ def rasterize(P, UV, tris, W, H, edge=1e-4):
         if not np.any(a):
             continue
         x, y = X[[i0, i1, i2]], Y[[i0, i1, i2]]
-        area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
-        if area == 0 or not np.isfinite(area):
+        cover = texel_cover(x, y, W, H)
+        if cover is None:
             continue
-        xs = np.arange(max(np.ceil(x.min() - 0.5), 0), min(np.floor(x.max() - 0.5), W - 1) + 1)
-        ys = np.arange(max(np.ceil(y.min() - 0.5), 0), min(np.floor(y.max() - 0.5), H - 1) + 1)
-        if not len(xs) or not len(ys):
-            continue
-        cx, cy = np.meshgrid(xs + 0.5, ys + 0.5)
-        l0 = ((x[2] - x[1]) * (cy - y[1]) - (y[2] - y[1]) * (cx - x[1])) / area
-        l1 = ((x[0] - x[2]) * (cy - y[2]) - (y[0] - y[2]) * (cx - x[2])) / area
-        l2 = 1 - l0 - l1
-        inside = (l0 >= 0) & (l1 >= 0) & (l2 >= 0)
-        k = ((cy - 0.5).astype(np.int64) * W + (cx - 0.5).astype(np.int64))[inside]
+        rows, cols, lam = cover
+        k = rows * W + cols
         owner[k] = t
-        wts[k] = np.stack([l0[inside], l1[inside], l2[inside]], 1)
-        near[k] = np.minimum(np.minimum(l0, l1), l2)[inside] < edge
+        wts[k] = lam
+        near[k] = lam.min(axis=1) < edge
     return owner, wts, near
 
 
@@ -120,10 +98,10 @@ def model(tmp, name, src):
     check(p.returncode == 0, "%s: mesh IN out.glb --bake-normal-map n.exr" % name)
     p = run([src, "--bake-normal-map", omap, "--space", "object"] + size)
     check(p.returncode == 0, "%s: the object-space bake" % name)
-    if FAILS:
+    if FAILURES:
         return
     g = Gltf(glb)
-    tmap, omap_img = read_image(tmp, nmap), read_image(tmp, omap)
+    tmap, omap_img = read_image(ORACLE, tmp, nmap), read_image(ORACLE, tmp, omap)
     dec, ok = decode_in_file_frame(g, tmap)
     ref = 2.0 * omap_img.reshape(-1, 3)[ok] - 1.0
     a = angles_deg(dec, ref)
@@ -146,7 +124,7 @@ def model(tmp, name, src):
         data, mime = g.image_bytes(src_img)
         png = os.path.join(tmp, name + "_embedded.png")
         open(png, "wb").write(data)
-        emb = read_image(tmp, png)
+        emb = read_image(ORACLE, tmp, png)
         diff = np.abs(emb - np.clip(np.round(tmap * 255) / 255, 0, 1)).max()
         check(mime == "image/png" and data[:4] == b"\x89PNG" and diff <= 1.01 / 255,
               "%s: the embedded image is the map as an 8-bit PNG (max diff %.4f)" % (name, diff))
@@ -177,8 +155,8 @@ def udim(tmp):
     worst = (0.0, 0.0)
     for tile in (1001, 1002, 1003, 1011, 1012, 1013):
         sel = {i for i, m in enumerate(mats) if m.get("name", "").endswith(str(tile))}
-        tmap = read_image(tmp, os.path.join(tmp, "tn.%d.exr" % tile))
-        omap = read_image(tmp, os.path.join(tmp, "to.%d.exr" % tile))
+        tmap = read_image(ORACLE, tmp, os.path.join(tmp, "tn.%d.exr" % tile))
+        omap = read_image(ORACLE, tmp, os.path.join(tmp, "to.%d.exr" % tile))
         dec, ok = decode_in_file_frame(g, tmap, sel)
         a = angles_deg(dec, 2.0 * omap.reshape(-1, 3)[ok] - 1.0)
         if ok.sum() < 1000:
@@ -249,8 +227,7 @@ def main():
         n2 = next(g2.primitives())[0]["NORMAL"]
         check(p1.returncode == 0 and len(n1) == len(n2) and np.abs(n1 - n2).max() > 0.05,
               "without a map the glb carries the bumped normals, with one the original ones")
-    print("%d failures" % len(FAILS))
-    return 1 if FAILS else 0
+    return finish("mesh_gltf")
 
 
 if __name__ == "__main__":

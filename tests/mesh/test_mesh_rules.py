@@ -17,29 +17,14 @@ import tempfile
 import numpy as np
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mesh_util import read_image  # noqa: E402
+from harness import check, finish  # noqa: E402
 from make_cubesphere import cubesphere, write_obj  # noqa: E402
 
 BUMPGRAD, ORACLE, MODELS = sys.argv[1:4]
-FAILS = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILS.append(what)
-
 
 def run(args):
     return subprocess.run([BUMPGRAD, "mesh"] + args, capture_output=True, text=True)
-
-
-def read_image(tmp, path):
-    fout = os.path.join(tmp, "image.f32")
-    subprocess.run([ORACLE, "image", path, fout], check=True)
-    raw = np.fromfile(fout, np.uint8)
-    w, h, c = np.frombuffer(raw[:12].tobytes(), np.int32)
-    return np.frombuffer(raw[12:].tobytes(), np.float32).reshape(h, w, c).astype(np.float64)
 
 
 def padding(tmp):
@@ -57,7 +42,7 @@ def padding(tmp):
     out = os.path.join(tmp, "pad.exr")
     p = run([obj, "--bake-normal-map", out] + flat)
     check(p.returncode == 0, "padding: bake of two islands (%s)" % p.stderr.strip())
-    v = 2 * read_image(tmp, out) - 1
+    v = 2 * read_image(ORACLE, tmp, out) - 1
     n = np.linalg.norm(v, axis=-1)
     check(bool((n > 0.5).all()), "padding: the default (16) fills every texel of the 64^2 map "
           "(%d empty)" % int((n <= 0.5).sum()))
@@ -72,7 +57,7 @@ def padding(tmp):
     check(bool((gut[:, 0, 2] > 0.999).all() and (gut[:, -1, 0] > 0.999).all()),
           "padding: the gutter's left side holds the left island, its right side the right one")
     p = run([obj, "--bake-normal-map", out, "--padding", "4"] + flat)
-    v = 2 * read_image(tmp, out) - 1
+    v = 2 * read_image(ORACLE, tmp, out) - 1
     check(p.returncode == 0 and np.linalg.norm(v[0, 32]) < 0.5,
           "padding: --padding 4 leaves texels 6 away from the islands empty")
 
@@ -148,7 +133,7 @@ def scale(tmp):
             out = os.path.join(tmp, "s%d.png" % len(maps))
             p = run([src, "--bake-normal-map", out, "--size", "128", "--quiet"] + units)
             check(p.returncode == 0, "scale: bake %s %s" % (os.path.basename(src), units))
-            maps.append(np.round(read_image(tmp, out) * 255))
+            maps.append(np.round(read_image(ORACLE, tmp, out) * 255))
     d = np.abs(maps[0] - maps[1]).max()
     check(d <= 1, "scale: the default bake of a model and of the same model scaled by 1000 "
           "(and moved) agree within one 8-bit step (max %d)" % d)
@@ -165,8 +150,7 @@ def main():
         silent(tmp)
         render_udim(tmp)
         scale(tmp)
-    print("%d failures" % len(FAILS))
-    return 1 if FAILS else 0
+    return finish("mesh_rules")
 
 
 if __name__ == "__main__":

@@ -12,17 +12,11 @@ import tempfile
 import numpy as np
 
 import bumpgrad
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
+QUIET[0] = True  # failures only, as before
 import perlin_ref as ref  # examples/perlin_ref.py
 
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", msg)
-    return cond
 
 
 def points(n, seed, scale=100.0, dtype=np.float64):
@@ -348,8 +342,7 @@ def main():
     else:
         print("unknown mode", mode)
         return 2
-    print(f"{mode}: {'all checks passed' if failures == 0 else f'{failures} FAILED'}")
-    return 1 if failures else 0
+    return finish(mode)
 
 
 if __name__ == "__main__":

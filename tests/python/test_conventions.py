@@ -16,16 +16,10 @@ import warnings
 import numpy as np
 
 import bumpgrad
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
+QUIET[0] = True  # failures only, as before
 
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", msg)
-    return cond
 
 
 def same(a, b):
@@ -236,8 +230,7 @@ def main():
         test_threads()
         test_fast_path()
         test_stubs()
-    print(f"conventions: {'all checks passed' if failures == 0 else f'{failures} FAILED'}")
-    return 1 if failures else 0
+    return finish('conventions')
 
 
 if __name__ == "__main__":

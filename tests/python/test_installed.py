@@ -9,17 +9,12 @@ import subprocess
 import sys
 
 import bumpgrad
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
+QUIET[0] = True  # failures only, as before
 
 venv = os.path.realpath(sys.argv[1])
 pkg = os.path.dirname(os.path.realpath(bumpgrad.__file__))
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", msg)
 
 
 check(pkg.startswith(venv + os.sep), f"bumpgrad imported from {pkg}, not from the venv {venv}")
@@ -35,4 +30,4 @@ if bumpgrad.HAVE_TOOLS:
     check(any(f.startswith("libbumpgrad_io_module") for f in files),
           f"a tools build without the I/O module in the package: {files}")
 print(f"bumpgrad {bumpgrad.__version__} from {pkg}: {sorted(files)}")
-sys.exit(1 if failures else 0)
+sys.exit(finish("installed"))

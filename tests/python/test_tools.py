@@ -16,16 +16,10 @@ import warnings
 import numpy as np
 
 import bumpgrad
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
+QUIET[0] = True  # failures only, as before
 
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", msg)
-    return cond
 
 
 def bits(a):
@@ -68,7 +62,7 @@ def main():
             check(False, "bake_normal_map without the tools did not raise")
         except bumpgrad.Error:
             pass
-        return 1 if failures else 0
+        return finish("tools")
     with tempfile.TemporaryDirectory() as tmp:
         mesh = os.path.join(tmp, "sphere.obj")
         write_sphere(mesh)
@@ -232,8 +226,7 @@ def main():
                 check(False, f"{kw} did not raise")
             except (ValueError, TypeError) as e:
                 check(next(iter(kw)) in str(e), f"{kw}: {e}")
-    print(f"tools: {'all checks passed' if failures == 0 else f'{failures} FAILED'}")
-    return 1 if failures else 0
+    return finish('tools')
 
 
 if __name__ == "__main__":

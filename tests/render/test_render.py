@@ -19,7 +19,7 @@ import subprocess
 import sys
 import tempfile
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from harness import check, finish, run as harness_run, two_quads  # noqa: E402
+from harness import check, finish, ppm_header, run as harness_run, two_quads  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
 
@@ -439,20 +439,9 @@ def read_ppm(path):
     """(width, height, bytes) of a binary PPM (P6, maxval 255)."""
     with open(path, "rb") as f:
         data = f.read()
-    fields, pos = [], 0
-    while len(fields) < 4:
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        if data[pos:pos + 1] == b"#":
-            pos = data.index(b"\n", pos)
-            continue
-        end = pos
-        while not data[end:end + 1].isspace():
-            end += 1
-        fields.append(data[pos:end])
-        pos = end
-    assert fields[0] == b"P6" and fields[3] == b"255"
-    return int(fields[1]), int(fields[2]), data[pos + 1:]
+    w, h, maxval, pos = ppm_header(data)
+    assert maxval == 255
+    return w, h, data[pos:]
 
 
 def t_materials(tmp):

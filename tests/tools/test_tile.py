@@ -14,18 +14,10 @@ import sys
 import tempfile
 
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish, ppm_header  # noqa: E402
 
 EXE = sys.argv[1]
-failures = 0
-
-
-def check(cond, what):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", what)
-    else:
-        print("ok:", what)
 
 
 def run(args, **kw):
@@ -34,21 +26,8 @@ def run(args, **kw):
 
 def read_ppm16(data):
     """A binary P6 (maxval 255 or 65535) -> float array (H, W, 3) in [0, 1]."""
-    fields, pos = [], 0
-    while len(fields) < 4:
-        while data[pos:pos + 1].isspace():
-            pos += 1
-        if data[pos:pos + 1] == b"#":
-            pos = data.index(b"\n", pos) + 1
-            continue
-        end = pos
-        while not data[end:end + 1].isspace():
-            end += 1
-        fields.append(data[pos:end])
-        pos = end
-    pos += 1
-    assert fields[0] == b"P6" and int(fields[3]) in (255, 65535), fields
-    w, h, m = int(fields[1]), int(fields[2]), int(fields[3])
+    w, h, m, pos = ppm_header(data)
+    assert m in (255, 65535), m
     dt, size = (">u2", 6) if m == 65535 else ("u1", 3)
     return np.frombuffer(data[pos:pos + w * h * size], dtype=dt).reshape(h, w, 3) / float(m)
 
@@ -141,5 +120,4 @@ check(p0 == p00 and p0 != p5 and len(p5) > 100, "perturb --seed: 0 is the defaul
 r = run(["volume", "--help"])
 check(b"--period" in r.stdout and b"--seed" in r.stdout, "volume --help lists --period, --seed")
 
-print(f"{failures} failures")
-sys.exit(1 if failures else 0)
+sys.exit(finish("tile"))

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "generate.h"
+#include "bake_internal.h"
 #include "common/parallel.h"
 #include "bumpgrad/image.h"
 
@@ -106,16 +107,7 @@ bg_status bgt_generate_run(const bgt_generate_opts *o, bgt_err *e)
     free(scratch);
     bgt_height_close(&h);
     int bits = o->bits ? o->bits : (o->map == BGT_MAP_DERIVATIVE ? 32 : 8);
-    const bg_pixel_type type = bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
-    char err[1024];
-    rc = bg_image_write_as(o->output, strcmp(o->output, "-") == 0 ? o->format : NULL, &img, type,
-                           0, err, sizeof err);
+    rc = bake_write_image(o->output, o->format, &img, bits, e);
     bg_image_free(&img);
-    if (rc == BG_OK)
-        return BG_OK;
-    return bgt_fail(e,
-                    rc == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
-                    : rc == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
-                                                  : BG_ERR_IO,
-                    "%s%s", rc == BG_ERR_INVALID_ARGUMENT && o->format ? "--format: " : "", err);
+    return rc;
 }

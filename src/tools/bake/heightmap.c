@@ -13,6 +13,7 @@
 #include <string.h>
 #include <strings.h>
 #include "bake/heightmap.h"
+#include "bake/bake_internal.h"
 #include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
 
@@ -236,26 +237,6 @@ static bg_status height_to_normals(const bgt_heightmap_opts *o, const bg_image *
     return BG_OK;
 }
 
-/* The output at `bits` per sample. A file's format is its extension's
- * (out_format; the shim takes "exr", ".exr" or "EXR" alike). A file name
- * without an image format is bad input; only the writing itself failing is
- * a run failure. */
-static bg_status write_output(const bgt_heightmap_opts *o, const bg_image *out, int bits, bgt_err *e)
-{
-    char err[1024];
-    const char *out_path = o->output;
-    const bg_pixel_type type = bits == 8 ? BG_PIXEL_U8 : (bits == 16 ? BG_PIXEL_U16 : BG_PIXEL_F32);
-    bg_status st = bg_image_write_as(out_path, strcmp(out_path, "-") == 0 ? o->format : NULL, out,
-                                     type, 0, err, sizeof err);
-    if (st == BG_OK)
-        return BG_OK;
-    return bgt_fail(e,
-                    st == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
-                    : st == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
-                                                  : BG_ERR_IO,
-                    "%s%s", st == BG_ERR_INVALID_ARGUMENT && o->format ? "--format: " : "", err);
-}
-
 bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
 {
     if (!o || !o->input || !o->output)
@@ -278,7 +259,7 @@ bg_status bgt_heightmap_run(const bgt_heightmap_opts *o, bgt_err *e)
     rc = o->to_derivative ? normals_to_derivs(o, &in, out.pixels, e)
                           : height_to_normals(o, &in, out.pixels, e);
     if (rc == BG_OK)
-        rc = write_output(o, &out, bits, e);
+        rc = bake_write_image(o->output, o->format, &out, bits, e);
     bg_image_free(&in);
     bg_image_free(&out);
     return rc;
