@@ -153,9 +153,9 @@ relocate)
         page=$(unset MANPATH; PATH=$prefix/bin:$PATH man -w bumpgrad 2>&1) || true
         [ "$page" = "$prefix/share/man/man1/bumpgrad.1" ] ||
             { echo "FAIL: man -w bumpgrad with PREFIX/bin on PATH gave '$page'"; exit 1; }
-        page=$(MANPATH=$prefix/share/man: man -w bumpgrad-render 2>&1) || true
-        [ "$page" = "$prefix/share/man/man1/bumpgrad-render.1" ] ||
-            { echo "FAIL: man -w bumpgrad-render with MANPATH gave '$page'"; exit 1; }
+        page=$(MANPATH=$prefix/share/man: man -w bumpgrad-eval 2>&1) || true
+        [ "$page" = "$prefix/share/man/man1/bumpgrad-eval.1" ] ||
+            { echo "FAIL: man -w bumpgrad-eval with MANPATH gave '$page'"; exit 1; }
         echo "man finds the moved prefix's pages through PATH and through MANPATH"
     fi
     [ "$tools" = true ] || { echo "relocate: no tools in this build"; exit 77; }
