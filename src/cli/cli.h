@@ -46,6 +46,10 @@ int cli_fail(const char *cmd, const char *fmt, ...);
 int cli_parse_float(const char *cmd, const char *opt, const char *text, float *out);
 int cli_parse_double(const char *cmd, const char *opt, const char *text, double *out);
 int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, long hi, long *out);
+/* An image size "WxH" (or "N" for N x N when `square` is set), each side in
+ * lo..16384 `unit` (the word in the message: "pixels", "texels"). */
+int cli_parse_size(const char *cmd, const char *opt, const char *text, long lo, int square,
+                   const char *unit, int *w, int *h);
 /* Names of functions ("noise", "fbm", "turbulence") and perturbation methods
  * ("surfgrad", "additive", "additive-perlin"); parsed by the option tables. */
 const char *cli_function_name(bg_function f);

@@ -6,7 +6,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
-#include "study/study_tool.h"
+#include "study/study.h"
 
 static const char *const CMD = "accuracy";
 
@@ -74,7 +74,7 @@ typedef struct acc_print {
     int table_done;
 } acc_print;
 
-static void print_table(const bgt_accuracy_result *r)
+static void print_text(const bgt_accuracy_result *r)
 {
     printf("%-10s %-8s %-8s %12s %12s %12s %12s\n", "method", "param", "precision", "ns/sample",
            "mean deg", "p99 deg", "max deg");
@@ -91,7 +91,7 @@ static void on_wrote(void *ctx, const char *path)
     if (cli_quiet())
         return;
     if (!p->table_done)
-        print_table(p->res), p->table_done = 1;
+        print_text(p->res), p->table_done = 1;
     printf("wrote %s\n", path);
 }
 

@@ -14,6 +14,7 @@
 #include "args.h"
 #include "bench/bench.h"
 #include "cli.h"
+#include "kernels/kernels.h" /* bg_isa_list */
 
 static const char *const CMD = "bench";
 #define BENCH_DEFAULT_SAMPLES ((size_t)1 << 22)
@@ -39,9 +40,11 @@ static void bench_defaults(void *p)
 static int parse_isa(const char *cmd, const char *opt, char *text, void *field)
 {
     bg_isa want;
-    if (bg_isa_parse(text, &want) != BG_OK)
-        return cli_usage_error(cmd, "%s: unknown ISA '%s' (scalar, sse2, avx2, avx512, neon)", opt,
-                               text);
+    if (bg_isa_parse(text, &want) != BG_OK) {
+        char all[96];
+        bg_isa_list(all, sizeof all, 0);
+        return cli_usage_error(cmd, "%s: unknown ISA '%s' (%s)", opt, text, all);
+    }
     *(int *)field = (int)want;
     return 0;
 }
@@ -147,7 +150,7 @@ static void print_json(FILE *fp, const bgt_bench_result *res)
     fputs("]\n", fp);
 }
 
-static void print_table(FILE *fp, const bgt_bench_result *res)
+static void print_rows(FILE *fp, const bgt_bench_result *res)
 {
     fprintf(fp, "%-30s %-8s %3s %9s %9s %9s  %4s %8s %7s %6s  %s\n", "kernel", "isa", "thr",
             "median", "min", "max", "cpu%", "ns/smp", "x scal", "x thr", "vs best peer");
@@ -202,6 +205,17 @@ static void print_header(const bgt_bench_result *res)
     putchar('\n');
 }
 
+/* The header, the table of rows and the peers left out. */
+static void print_text(const bgt_bench_result *res, const char *missing)
+{
+    print_header(res);
+    print_rows(stdout, res);
+    if (missing)
+        printf("note: peers not built in (library or C++ compiler absent at configure "
+               "time):%s\n",
+               missing);
+}
+
 /* Progress goes to stderr, so it never mixes into the table or the JSON. */
 static void on_measuring(void *ctx, const bgt_bench_row *r)
 {
@@ -248,12 +262,7 @@ static int run_bench(void *args, const char *const *pos, int npos)
         if (missing)
             fprintf(stderr, "bumpgrad bench: note: peers not built in:%s\n", missing);
     } else {
-        print_header(&res);
-        print_table(stdout, &res);
-        if (missing)
-            printf("note: peers not built in (library or C++ compiler absent at configure "
-                   "time):%s\n",
-                   missing);
+        print_text(&res, missing);
     }
     bgt_bench_result_free(&res);
     if (fflush(stdout) != 0 || ferror(stdout))

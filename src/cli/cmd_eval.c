@@ -84,6 +84,33 @@ CLI_SPEC(eval,
             "  bumpgrad eval --function fbm --gradient central --step 1e-3 -i pts.csv -o fd.csv\n",
 );
 
+/* With -v: the rows, the time, the ISA and the threads (stderr). */
+static void print_text(const eval_args *a, const bgt_points_stats *stats, double dt)
+{
+    const char *cmd = "eval";
+    cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats->rows, dt,
+             bg_isa_name(bg_isa_active()), a->threads);
+}
+
+/* One JSON object of statistics and every parameter (--json). */
+static void print_json(const eval_args *a, const bgt_points_stats *stats, double dt)
+{
+    const char *cmd = "eval";
+    cli_json j;
+    cli_json_points_begin(&j, cmd, dt, stats->rows);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "input", a->io.input);
+    cli_json_str(&j, "output", a->io.output);
+    cli_json_fractal(&j, &a->fractal);
+    cli_json_str(&j, "gradient", a->central ? "central" : "analytic");
+    cli_json_num(&j, "step", a->step);
+    cli_json_str(&j, "precision", a->dbl ? "double" : "float");
+    cli_json_int(&j, "threads", a->threads);
+    cli_json_bool(&j, "allow_nonfinite", a->allow_nonfinite);
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
+
 static int run_eval(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -111,22 +138,8 @@ static int run_eval(void *args, const char *const *pos, int npos)
     double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
-    cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats->rows, dt,
-             bg_isa_name(bg_isa_active()), a.threads);
-    if (a.json) {
-        cli_json j;
-        cli_json_points_begin(&j, cmd, dt, stats->rows);
-        cli_json_object(&j, "parameters");
-        cli_json_str(&j, "input", a.io.input);
-        cli_json_str(&j, "output", a.io.output);
-        cli_json_fractal(&j, &a.fractal);
-        cli_json_str(&j, "gradient", a.central ? "central" : "analytic");
-        cli_json_num(&j, "step", a.step);
-        cli_json_str(&j, "precision", a.dbl ? "double" : "float");
-        cli_json_int(&j, "threads", a.threads);
-        cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);
-        cli_json_close(&j);
-        cli_json_end(&j);
-    }
+    print_text(&a, stats, dt);
+    if (a.json)
+        print_json(&a, stats, dt);
     return CLI_OK;
 }

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 #include "args.h"
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 #include "cli.h"
 #include "json.h"
 
@@ -114,6 +114,38 @@ CLI_SPEC(heightmap,
     .max_positional = 2,
 );
 
+/* The image is the output: the text is one line with -v, nothing else. */
+static void print_text(const char *in, const char *out, double dt)
+{
+    cli_info(CMD, "%s -> %s in %.3f s", in, out, dt);
+}
+
+/* One JSON object of the run and its parameters (--json). */
+static void print_json(const heightmap_args *a, const char *in, const char *out, double dt)
+{
+    cli_json j;
+    cli_json_begin(&j, stdout);
+    cli_json_common(&j, CMD, dt);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "input", in);
+    cli_json_str(&j, "output", out);
+    cli_json_str(&j, "gray", a->gray == BGT_GRAY_REC709 ? "rec709" : "diffuse");
+    cli_json_float(&j, "strength", a->strength);
+    cli_json_str(&j, "edge", a->wrap ? "wrap" : "clamp");
+    cli_json_bool(&j, "y_down", a->y_down);
+    cli_json_bool(&j, "to_derivative", a->to_derivative);
+    if (a->format)
+        cli_json_str(&j, "format", a->format);
+    if (a->input_format)
+        cli_json_str(&j, "input_format", a->input_format);
+    if (a->bits)
+        cli_json_int(&j, "bits", a->bits);
+    else
+        cli_json_str(&j, "bits", "default");
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
+
 static int run_heightmap(void *args, const char *const *pos, int npos)
 {
     heightmap_args a = *(heightmap_args *)args;
@@ -133,28 +165,9 @@ static int run_heightmap(void *args, const char *const *pos, int npos)
     double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(CMD, st, &err);
-    if (a.json) {
-        cli_json j;
-        cli_json_begin(&j, stdout);
-        cli_json_common(&j, CMD, dt);
-        cli_json_object(&j, "parameters");
-        cli_json_str(&j, "input", pos[0]);
-        cli_json_str(&j, "output", pos[1]);
-        cli_json_str(&j, "gray", a.gray == BGT_GRAY_REC709 ? "rec709" : "diffuse");
-        cli_json_float(&j, "strength", a.strength);
-        cli_json_str(&j, "edge", a.wrap ? "wrap" : "clamp");
-        cli_json_bool(&j, "y_down", a.y_down);
-        cli_json_bool(&j, "to_derivative", a.to_derivative);
-        if (a.format)
-            cli_json_str(&j, "format", a.format);
-        if (a.input_format)
-            cli_json_str(&j, "input_format", a.input_format);
-        if (a.bits)
-            cli_json_int(&j, "bits", a.bits);
-        else
-            cli_json_str(&j, "bits", "default");
-        cli_json_close(&j);
-        cli_json_end(&j);
-    }
+    if (a.json)
+        print_json(&a, pos[0], pos[1], dt);
+    else
+        print_text(pos[0], pos[1], dt);
     return CLI_OK;
 }

@@ -100,20 +100,7 @@ static void mesh_defaults(void *p)
 static int parse_size(const char *cmd, const char *opt, char *text, void *field)
 {
     mesh_bake_opts *b = field;
-    char *end;
-    long w = strtol(text, &end, 10), h = w;
-    if (end != text && (*end == 'x' || *end == 'X')) {
-        const char *s = end + 1;
-        h = strtol(s, &end, 10);
-        if (end == s)
-            h = 0;
-    }
-    if (end == text || *end || w < 1 || h < 1 || w > 16384 || h > 16384)
-        return cli_usage_error(cmd, "%s: expected N or WxH with 1..16384 texels, got \"%s\"", opt,
-                               text);
-    b->width = (int)w;
-    b->height = (int)h;
-    return 0;
+    return cli_parse_size(cmd, opt, text, 1, 1, "texels", &b->width, &b->height);
 }
 
 #define A(m) offsetof(mesh_args, m)

@@ -73,6 +73,49 @@ CLI_SPEC(perturb,
             "  printf 'x,y,z,nx,ny,nz\\n0.3,0.2,0.1,0,0,1\\n' | bumpgrad perturb -i - -o -\n",
 );
 
+/* A warning when a --height-grid missed every point; with -v, the points in
+ * its active box, the rows, the time, the ISA and the threads (stderr). */
+static void print_text(const perturb_args *a, const bgt_points_stats *stats, double dt)
+{
+    const char *cmd = "perturb";
+    const double *gb = stats->grid_box;
+    if (stats->grid && stats->rows > 0 && stats->in_grid == 0)
+        cli_warn(cmd, "none of the %zu points lies in the active region of %s (active voxel "
+                      "centres in [%g,%g,%g]..[%g,%g,%g]): the height is 0 there and every "
+                      "normal is unchanged",
+                 stats->rows, a->height.grid_path, gb[0], gb[1], gb[2], gb[3], gb[4], gb[5]);
+    else if (stats->grid)
+        cli_info(cmd, "%zu of %zu points inside the active box of %s", stats->in_grid, stats->rows,
+                 a->height.grid_path);
+    cli_info(cmd, "%zu rows in %.3f s, %zu inward (%s, %d threads)", stats->rows, dt,
+             stats->inward, bg_isa_name(bg_isa_active()), a->threads);
+}
+
+/* One JSON object of statistics and every parameter (--json). */
+static void print_json(const perturb_args *a, const bgt_points_stats *stats, double dt)
+{
+    const char *cmd = "perturb";
+    const double *gb = stats->grid_box;
+    cli_json j;
+    cli_json_points_begin(&j, cmd, dt, stats->rows);
+    cli_json_int(&j, "inward", (long long)stats->inward);
+    cli_json_num(&j, "inward_fraction",
+                 stats->rows ? (double)stats->inward / (double)stats->rows : 0.0);
+    if (stats->grid) {
+        cli_json_int(&j, "in_grid", (long long)stats->in_grid);
+        cli_json_nums(&j, "grid_active_box", gb, 6);
+    }
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "input", a->io.input);
+    cli_json_str(&j, "output", a->io.output);
+    cli_json_str(&j, "method", cli_method_name((bg_perturb_method)a->method));
+    cli_json_int(&j, "threads", a->threads);
+    cli_json_bool(&j, "allow_nonfinite", a->allow_nonfinite);
+    cli_json_height(&j, "height", &a->height);
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
+
 static int run_perturb(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -80,10 +123,6 @@ static int run_perturb(void *args, const char *const *pos, int npos)
     perturb_args a = *(perturb_args *)args;
     if (a.json && strcmp(a.io.output, "-") == 0)
         return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
-    bgt_err herr;
-    bg_status hs = bgt_height_open(&a.height, &herr);
-    if (hs != BG_OK)
-        return cli_report(cmd, hs, &herr);
     if (a.threads == 0)
         a.threads = bgt_threads_default();
 
@@ -97,39 +136,10 @@ static int run_perturb(void *args, const char *const *pos, int npos)
     double t0 = cli_now();
     bg_status st = bgt_perturb_run(&opts, &err);
     double dt = cli_now() - t0;
-    bgt_height_close(&a.height);
     if (st != BG_OK)
         return cli_report(cmd, st, &err);
-    const double *gb = stats->grid_box;
-    if (stats->grid && stats->rows > 0 && stats->in_grid == 0)
-        cli_warn(cmd, "none of the %zu points lies in the active region of %s (active voxel "
-                      "centres in [%g,%g,%g]..[%g,%g,%g]): the height is 0 there and every "
-                      "normal is unchanged",
-                 stats->rows, a.height.grid_path, gb[0], gb[1], gb[2], gb[3], gb[4], gb[5]);
-    else if (stats->grid)
-        cli_info(cmd, "%zu of %zu points inside the active box of %s", stats->in_grid, stats->rows,
-                 a.height.grid_path);
-    cli_info(cmd, "%zu rows in %.3f s, %zu inward (%s, %d threads)", stats->rows, dt,
-             stats->inward, bg_isa_name(bg_isa_active()), a.threads);
-    if (a.json) {
-        cli_json j;
-        cli_json_points_begin(&j, cmd, dt, stats->rows);
-        cli_json_int(&j, "inward", (long long)stats->inward);
-        cli_json_num(&j, "inward_fraction",
-                     stats->rows ? (double)stats->inward / (double)stats->rows : 0.0);
-        if (stats->grid) {
-            cli_json_int(&j, "in_grid", (long long)stats->in_grid);
-            cli_json_nums(&j, "grid_active_box", gb, 6);
-        }
-        cli_json_object(&j, "parameters");
-        cli_json_str(&j, "input", a.io.input);
-        cli_json_str(&j, "output", a.io.output);
-        cli_json_str(&j, "method", cli_method_name((bg_perturb_method)a.method));
-        cli_json_int(&j, "threads", a.threads);
-        cli_json_bool(&j, "allow_nonfinite", a.allow_nonfinite);
-        cli_json_height(&j, "height", &a.height);
-        cli_json_close(&j);
-        cli_json_end(&j);
-    }
+    print_text(&a, stats, dt);
+    if (a.json)
+        print_json(&a, stats, dt);
     return CLI_OK;
 }

@@ -4,7 +4,7 @@
  * heat map of each one's angle error against the analytic surface gradient
  * (eq. 2 and 4, Listing 3), and the presets that reproduce Figures 1, 2, 3.
  * This file parses the options (one table, args.h) into a render_opts, calls
- * render_image (src/tools/render) and prints its statistics. */
+ * bgt_render_run (src/tools/render) and prints its statistics. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -114,16 +114,7 @@ static int parse_compare(const char *cmd, const char *opt, char *text, void *fie
 static int parse_size(const char *cmd, const char *opt, char *text, void *field)
 {
     render_opts *o = field;
-    char *end;
-    long a = strtol(text, &end, 10);
-    if (end == text || (*end != 'x' && *end != 'X'))
-        return cli_usage_error(cmd, "%s: expected WxH (e.g. 384x384), got \"%s\"", opt, text);
-    const char *s2 = end + 1;
-    long b = strtol(s2, &end, 10);
-    if (end == s2 || *end || a < 2 || b < 2 || a > 16384 || b > 16384)
-        return cli_usage_error(cmd, "%s: expected WxH with 2..16384 each, got \"%s\"", opt, text);
-    o->width = (int)a, o->height = (int)b;
-    return 0;
+    return cli_parse_size(cmd, opt, text, 2, 0, "pixels", &o->width, &o->height);
 }
 
 static int format_size(const void *field, char *buf, size_t len)
@@ -365,6 +356,12 @@ static void print_json(const render_opts *o, const render_result *r, double seco
         cli_json_close(&j);
     }
     cli_json_close(&j);
+    if (r->grid) {
+        cli_json_int(&j, "grid_points", (long long)r->grid_points);
+        cli_json_int(&j, "in_grid", (long long)r->grid_in_box);
+        cli_json_int(&j, "grid_zero", (long long)r->grid_zero);
+        cli_json_nums(&j, "grid_active_box", r->grid_box, 6);
+    }
     cli_json_object(&j, "parameters");
     cli_json_str(&j, "scene", o->mesh_path ? "mesh" : render_shape_name(o->shape));
     cli_json_str(&j, "mesh", o->mesh_path);
@@ -393,6 +390,59 @@ static void print_json(const render_opts *o, const render_result *r, double seco
 }
 
 
+/* The report: a header line, the statistics of every method, the file
+ * written, the density sweep, and what a --height-grid reached. */
+static void print_text(FILE *fp, const render_opts *o, const render_result *r)
+{
+    const bg_height *h = &o->h.h;
+    if (o->mesh_path)
+        fprintf(fp, "render mesh=%s triangles=%zu", o->mesh_path, r->triangles);
+    else
+        fprintf(fp, "render scene=%s", render_shape_name(o->shape));
+    if (!o->mesh_path && o->shape != RENDER_SPHERE)
+        fprintf(fp, " grid=%d triangles=%zu", o->grid, r->triangles);
+    fprintf(fp, " size=%dx%d spp=%d", o->width, o->height, o->ss * o->ss);
+    if (o->h.grid_path)
+        fprintf(fp, " height-grid=%s%s%s\n", o->h.grid_path, o->h.grid_name ? ":" : "",
+                o->h.grid_name ? o->h.grid_name : "");
+    else
+        fprintf(fp, " function=%s octaves=%d frequency=%g amplitude=%g\n",
+                cli_function_name(h->fractal.function), h->fractal.octaves, (double)h->frequency,
+                (double)h->amplitude);
+    if (o->mesh_path || o->tracer != TRACER_AUTO)
+        fprintf(fp, "timing tracer=%s load_s=%.3f build_s=%.4f render_s=%.3f%s%s\n", r->tracer,
+                r->load_seconds, r->build_seconds, r->render_seconds, r->textures[0] ? " textures:" : "",
+                r->textures);
+    for (int m = 0; m < r->nmethods; m++)
+        fprintf(fp, "stats %s%.*s%smethod=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
+                r->labels[m] ? "panel=" : "", r->labels[m] ? 1 : 0, &"abcdef"[m < 6 ? m : 0],
+                r->labels[m] ? " " : "", render_method_name(r->methods[m]), r->stats[m].mean_deg, r->stats[m].p99_deg,
+                r->stats[m].max_deg, r->stats[m].inward_fraction, r->stats[m].hits);
+    fprintf(fp, "wrote %s %dx%d\n", o->output, r->out_width, r->out_height);
+    for (int k = 0; k < r->nsweep; k++) {
+        const render_sweep_row *w = &r->sweep[k];
+        fprintf(fp, "sweep method=%s density=%g size=%dx%d spp=%d mean_deg=%.4f p99_deg=%.4f "
+                "max_deg=%.4f inward=%.6f hits=%zu\n",
+                render_method_name(w->method), w->density, w->width, w->height, w->spp,
+                w->st.mean_deg, w->st.p99_deg, w->st.max_deg, w->st.inward_fraction, w->st.hits);
+    }
+    if (r->grid) {
+        const double *b = r->grid_box;
+        fprintf(fp, "grid points=%zu in_active_box=%zu zero_height=%zu active_box=%g,%g,%g,%g,%g,%g\n",
+                r->grid_points, r->grid_in_box, r->grid_zero, b[0], b[1], b[2], b[3], b[4], b[5]);
+    }
+}
+
+/* On stderr, text or JSON: a --height-grid that bumped nothing. */
+static void warn_grid(const render_opts *o, const render_result *r)
+{
+    const double *b = r->grid_box;
+    if (r->grid && r->grid_points > 0 && r->grid_zero == r->grid_points)
+        cli_warn(CMD, "the height of %s is 0 at all %zu hit points (they lie outside its active "
+                      "voxels, centres in [%g,%g,%g]..[%g,%g,%g]): nothing is bumped",
+                 o->h.grid_path, r->grid_points, b[0], b[1], b[2], b[3], b[4], b[5]);
+}
+
 static int run_render(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -406,52 +456,21 @@ static int run_render(void *args, const char *const *pos, int npos)
     /* the image owns standard output: the report goes to stderr */
     FILE *fp = to_stdout ? stderr : stdout;
     bgt_err err;
-    bg_status s = bgt_height_open(&o.h, &err);
-    if (s != BG_OK)
-        return cli_report(CMD, s, &err);
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     o.progress = &sink;
     render_result r;
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    s = render_image(&o, &r, &err);
+    bg_status s = bgt_render_run(&o, &r, &err);
     clock_gettime(CLOCK_MONOTONIC, &t1);
-    bgt_height_close(&o.h);
     if (s != BG_OK && r.out_width == 0)
         return cli_report(CMD, s, &err);
-    if (a->json) {
+    if (a->json)
         print_json(&o, &r, (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
-        goto verdict;
-    }
-    const bg_height *h = &o.h.h;
-    if (o.mesh_path)
-        fprintf(fp, "render mesh=%s triangles=%zu", o.mesh_path, r.triangles);
     else
-        fprintf(fp, "render scene=%s", render_shape_name(o.shape));
-    if (!o.mesh_path && o.shape != RENDER_SPHERE)
-        fprintf(fp, " grid=%d triangles=%zu", o.grid, r.triangles);
-    fprintf(fp, " size=%dx%d spp=%d function=%s octaves=%d frequency=%g amplitude=%g\n", o.width,
-            o.height, o.ss * o.ss, cli_function_name(h->fractal.function), h->fractal.octaves,
-            (double)h->frequency, (double)h->amplitude);
-    if (o.mesh_path || o.tracer != TRACER_AUTO)
-        fprintf(fp, "timing tracer=%s load_s=%.3f build_s=%.4f render_s=%.3f%s%s\n", r.tracer,
-                r.load_seconds, r.build_seconds, r.render_seconds, r.textures[0] ? " textures:" : "",
-                r.textures);
-    for (int m = 0; m < r.nmethods; m++)
-        fprintf(fp, "stats %s%.*s%smethod=%s mean_deg=%.4f p99_deg=%.4f max_deg=%.4f inward=%.6f hits=%zu\n",
-                r.labels[m] ? "panel=" : "", r.labels[m] ? 1 : 0, &"abcdef"[m < 6 ? m : 0],
-                r.labels[m] ? " " : "", render_method_name(r.methods[m]), r.stats[m].mean_deg, r.stats[m].p99_deg,
-                r.stats[m].max_deg, r.stats[m].inward_fraction, r.stats[m].hits);
-    fprintf(fp, "wrote %s %dx%d\n", o.output, r.out_width, r.out_height);
-    for (int k = 0; k < r.nsweep; k++) {
-        const render_sweep_row *w = &r.sweep[k];
-        fprintf(fp, "sweep method=%s density=%g size=%dx%d spp=%d mean_deg=%.4f p99_deg=%.4f "
-                "max_deg=%.4f inward=%.6f hits=%zu\n",
-                render_method_name(w->method), w->density, w->width, w->height, w->spp,
-                w->st.mean_deg, w->st.p99_deg, w->st.max_deg, w->st.inward_fraction, w->st.hits);
-    }
-verdict:
+        print_text(fp, &o, &r);
+    warn_grid(&o, &r);
     /* A sweep that failed after the image was written: the image stands, the
      * run still fails. */
     if (s != BG_OK)

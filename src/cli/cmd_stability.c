@@ -7,7 +7,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
-#include "study/study_tool.h"
+#include "study/study.h"
 
 static const char *const CMD = "stability";
 
@@ -57,6 +57,12 @@ static void on_wrote(void *ctx, const char *path)
         printf("wrote %s\n", path);
 }
 
+/* After the charts' lines: where the report and the summary are. */
+static void print_text(const char *out_dir)
+{
+    printf("wrote %s/STABILITY.md and %s/summary.json\n", out_dir, out_dir);
+}
+
 static int run_stability(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -69,6 +75,6 @@ static int run_stability(void *args, const char *const *pos, int npos)
     bgt_err err;
     bg_status s = bgt_stability_run(&o, &err);
     if (s == BG_OK && !cli_quiet())
-        printf("wrote %s/STABILITY.md and %s/summary.json\n", a.out_dir, a.out_dir);
+        print_text(a.out_dir);
     return cli_report(CMD, s, &err);
 }

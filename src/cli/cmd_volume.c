@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
-#include "bake/bake.h"
+#include "bake/volume.h"
 #include "cli.h"
 #include "json.h"
 
@@ -137,6 +137,38 @@ CLI_SPEC(volume,
             "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n",
 );
 
+/* The summary line: the file, its voxels and their index box. */
+static void print_text(const volume_args *a, const bgt_volume_result *r)
+{
+    printf("%s: %llu active voxels (height + gradient), voxel size %g, index box "
+           "[%lld,%lld,%lld]..[%lld,%lld,%lld]\n",
+           a->output, (unsigned long long)r->voxels, a->voxel, r->lo[0], r->lo[1], r->lo[2],
+           r->hi[0], r->hi[1], r->hi[2]);
+}
+
+/* One JSON object instead of the summary line (--json). */
+static void print_json(const volume_args *a, const bgt_volume_result *r, double dt)
+{
+    cli_json j;
+    cli_json_begin(&j, stdout);
+    cli_json_common(&j, CMD, dt);
+    cli_json_int(&j, "active_voxels", (long long)r->voxels);
+    double lo[3] = {(double)r->lo[0], (double)r->lo[1], (double)r->lo[2]};
+    double hi[3] = {(double)r->hi[0], (double)r->hi[1], (double)r->hi[2]};
+    cli_json_nums(&j, "index_min", lo, 3);
+    cli_json_nums(&j, "index_max", hi, 3);
+    cli_json_object(&j, "parameters");
+    cli_json_str(&j, "output", a->output);
+    cli_json_nums(&j, "bbox", a->bbox, 6);
+    cli_json_num(&j, "voxel_size", a->voxel);
+    if (a->band.have)
+        cli_json_nums(&j, "band_sphere", a->band.v, 5);
+    cli_json_int(&j, "threads", a->threads);
+    cli_json_height(&j, "height", &a->height);
+    cli_json_close(&j);
+    cli_json_end(&j);
+}
+
 static int run_volume(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -163,29 +195,9 @@ static int run_volume(void *args, const char *const *pos, int npos)
                  a.band.have ? " and the band (check --band-sphere against --bbox and "
                                "--voxel-size)"
                              : " (--voxel-size larger than --bbox?)");
-    if (a.json) {
-        cli_json j;
-        cli_json_begin(&j, stdout);
-        cli_json_common(&j, CMD, dt);
-        cli_json_int(&j, "active_voxels", (long long)r.voxels);
-        double lo[3] = {(double)r.lo[0], (double)r.lo[1], (double)r.lo[2]};
-        double hi[3] = {(double)r.hi[0], (double)r.hi[1], (double)r.hi[2]};
-        cli_json_nums(&j, "index_min", lo, 3);
-        cli_json_nums(&j, "index_max", hi, 3);
-        cli_json_object(&j, "parameters");
-        cli_json_str(&j, "output", a.output);
-        cli_json_nums(&j, "bbox", a.bbox, 6);
-        cli_json_num(&j, "voxel_size", a.voxel);
-        if (a.band.have)
-            cli_json_nums(&j, "band_sphere", a.band.v, 5);
-        cli_json_int(&j, "threads", a.threads);
-        cli_json_height(&j, "height", &a.height);
-        cli_json_close(&j);
-        cli_json_end(&j);
-    } else if (!cli_quiet())
-        printf("%s: %llu active voxels (height + gradient), voxel size %g, index box "
-               "[%lld,%lld,%lld]..[%lld,%lld,%lld]\n",
-               a.output, (unsigned long long)r.voxels, a.voxel, r.lo[0], r.lo[1], r.lo[2],
-               r.hi[0], r.hi[1], r.hi[2]);
+    if (a.json)
+        print_json(&a, &r, dt);
+    else if (!cli_quiet())
+        print_text(&a, &r);
     return CLI_OK;
 }

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "args.h"
 #include "cli.h"
+#include "kernels/kernels.h" /* bg_isa_list: the levels dispatch knows */
 
 /* The subcommand table, in the order `bumpgrad --help` lists them.
  * To add a command: declare its cli_spec_<name> in cli.h, add cmd_<name>.c to
@@ -87,27 +88,13 @@ static void main_help(FILE *fp)
           fp);
 }
 
-/* A level is usable if it is scalar, the best one, or below the best on the same
- * x86 chain (NEON is its own chain); the same rule as the library's dispatch. */
-/* The levels this CPU and build can run, by the library's one rule. */
-static void list_usable(char *buf, size_t len)
-{
-    buf[0] = '\0';
-    for (int i = 0; i < BG_ISA_COUNT; i++)
-        if (bg_isa_supported((bg_isa)i)) {
-            if (buf[0])
-                strncat(buf, ", ", len - strlen(buf) - 1);
-            strncat(buf, bg_isa_name((bg_isa)i), len - strlen(buf) - 1);
-        }
-}
-
 /* Apply an ISA request from `source` ("--isa" or "BUMPGRAD_ISA"); CLI_USAGE on
  * an unknown name or a level this CPU (or this build) lacks. */
 static int apply_isa(const char *source, const char *name)
 {
     char have[96];
     bg_isa isa;
-    list_usable(have, sizeof have);
+    bg_isa_list(have, sizeof have, 1);
     if (bg_isa_parse(name, &isa) != BG_OK)
         return cli_usage_error(NULL, "%s: unknown ISA level \"%s\" (this CPU has: %s)", source,
                                name, have);
@@ -168,8 +155,11 @@ static int global_option(int argc, char **argv, int *i, const char **isa)
 {
     const char *o = argv[*i];
     if (strcmp(o, "--isa") == 0) {
-        if (*i + 1 >= argc)
-            return cli_usage_error(NULL, "--isa needs a value (scalar, sse2, avx2, avx512, neon)");
+        if (*i + 1 >= argc) {
+            char all[96];
+            bg_isa_list(all, sizeof all, 0);
+            return cli_usage_error(NULL, "--isa needs a value (%s)", all);
+        }
         *isa = argv[++*i];
     } else if (strncmp(o, "--isa=", 6) == 0) {
         *isa = o + 6;

@@ -102,6 +102,27 @@ int cli_parse_int(const char *cmd, const char *opt, const char *text, long lo, l
     return 0;
 }
 
+int cli_parse_size(const char *cmd, const char *opt, const char *text, long lo, int square,
+                   const char *unit, int *w, int *h)
+{
+    enum { MAX_SIDE = 16384 };
+    char *end;
+    long a = strtol(text, &end, 10), b = square ? a : 0;
+    const int have_x = end != text && (*end == 'x' || *end == 'X');
+    if (have_x) {
+        const char *s = end + 1;
+        b = strtol(s, &end, 10);
+        if (end == s)
+            b = 0;
+    }
+    if (end == text || *end || (!have_x && !square) || a < lo || b < lo || a > MAX_SIDE ||
+        b > MAX_SIDE)
+        return cli_usage_error(cmd, "%s: expected %sWxH with %ld..%d %s each, got \"%s\"", opt,
+                               square ? "N or " : "", lo, (int)MAX_SIDE, unit, text);
+    *w = (int)a, *h = (int)b;
+    return 0;
+}
+
 int cli_need_value(const char *cmd, int argc, char **argv, int *i, const char **out)
 {
     if (*i + 1 >= argc)

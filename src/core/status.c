@@ -16,7 +16,12 @@ const char *bg_status_string(bg_status s)
     return "unknown status";
 }
 
+#define BG_STR2(x) #x
+#define BG_STR(x) BG_STR2(x)
+
+/* From the version macros of common.h (meson.build checks them against the
+ * project version: one version, written once). */
 const char *bg_version_string(void)
 {
-    return "0.1.0";
+    return BG_STR(BG_VERSION_MAJOR) "." BG_STR(BG_VERSION_MINOR) "." BG_STR(BG_VERSION_PATCH);
 }

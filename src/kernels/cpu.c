@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* CPU feature detection with cpuid + xgetbv, once (STYLE.md 4). A level counts
+/* CPU feature detection with cpuid + xgetbv, once (docs/DESIGN.md, rule 4). A level counts
  * only if the OS saves its register state (XCR0), not just if cpuid lists it. */
 #include "cpu.h"
 

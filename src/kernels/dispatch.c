@@ -157,13 +157,12 @@ bg_status bg_isa_force(bg_isa isa)
     return BG_OK;
 }
 
-/* "scalar, sse2, avx2" : the supported names, lowest first. */
-static void list_supported(char *buf, size_t len)
+void bg_isa_list(char *buf, size_t len, int supported_only)
 {
     size_t used = 0;
     buf[0] = '\0';
     for (int i = 0; i < BG_ISA_COUNT; i++) {
-        if (!bg_isa_supported((bg_isa)i))
+        if (supported_only && !bg_isa_supported((bg_isa)i))
             continue;
         int w = snprintf(buf + used, len - used, "%s%s", used ? ", " : "", isa_names[i]);
         if (w < 0 || (size_t)w >= len - used)
@@ -183,7 +182,7 @@ bg_status bg_isa_env_status(char *msg, size_t msglen)
         return BG_OK;
     bg_isa isa;
     char have[64];
-    list_supported(have, sizeof have);
+    bg_isa_list(have, sizeof have, 1);
     if (bg_isa_parse(env, &isa) != BG_OK) {
         if (msg)
             snprintf(msg, msglen, "BUMPGRAD_ISA: unknown ISA level \"%s\" (this CPU has: %s)", env,

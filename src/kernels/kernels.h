@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Internal: the kernel table that every ISA fills, and the dispatch entry points.
  * Kernels are written once in *_tmpl.c against the vector vocabulary of vec_*.h
- * and compiled per ISA (STYLE.md 3); this header is the only contract between
+ * and compiled per ISA (docs/DESIGN.md, rule 3); this header is the only contract between
  * src/core and src/kernels. */
 #ifndef BUMPGRAD_KERNELS_H
 #define BUMPGRAD_KERNELS_H
@@ -113,6 +113,10 @@ const bg_kernel_table *bg_kernels_for(bg_isa isa);
  * AVX-512 with VBMI; all give the same bits). Stores at most `max`, returns the
  * count (0 if the ISA is unsupported). For the harness. */
 int bg_kernels_variants(bg_isa isa, const bg_kernel_table **out, int max);
+/* "scalar, sse2, avx2, avx512, neon": the names of the ISA levels, lowest
+ * first, comma-separated; with supported_only, only those bg_isa_supported()
+ * accepts here. Truncated at a name to fit len. For messages (the CLI). */
+void bg_isa_list(char *buf, size_t len, int supported_only);
 /* The scalar float table (used by the single-point entry points). */
 extern const bg_kernel_table bg_kernels_c;
 /* Single points on the scalar float kernel, for the per-point entry points

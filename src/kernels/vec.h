@@ -15,7 +15,7 @@
 
 #define BG_CAT2(a, b) a##b
 #define BG_CAT(a, b) BG_CAT2(a, b)
-/* Kernel names: bg_<kernel>_<isa>, scalar _c (STYLE.md 5). */
+/* Kernel names: bg_<kernel>_<isa>, scalar _c (docs/DESIGN.md, rule 5). */
 #define KFN(name) BG_CAT(BG_CAT(bg_, name), BG_CAT(_, BG_ISA_SUFFIX))
 /* The one-lane single-point functions this table calls (its noise3_point,
  * its batch tails): bg_<kernel>_c, or bg_<kernel>_c_avx2 where the build has

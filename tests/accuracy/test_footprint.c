@@ -6,16 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <bumpgrad.h>
-
-static int failures;
-#define CHECK(c, ...)                                  \
-    do {                                               \
-        printf("%s ", (c) ? "ok  " : "FAIL");          \
-        printf(__VA_ARGS__);                           \
-        printf("\n");                                  \
-        if (!(c))                                      \
-            failures++;                                \
-    } while (0)
+#include "common/check.h"
 
 static float frand(unsigned *s)
 {
@@ -25,6 +16,7 @@ static float frand(unsigned *s)
 
 int main(void)
 {
+    check_verbose = 1;
     /* The rule: c_i = clamp(2 - 4 w L^i, 0, 1). */
     CHECK(bg_octave_weight(0.0f, 2.0f, 5) == 1.0f, "footprint 0 keeps octave 5");
     CHECK(bg_octave_weight(0.25f, 2.0f, 0) == 1.0f, "r = 1/4: full weight");
@@ -132,6 +124,5 @@ int main(void)
         free(ref), free(got);
     }
     free(buf);
-    printf("%s\n", failures ? "FAILED" : "all footprint checks passed");
-    return failures != 0;
+    return check_summary("test_footprint");
 }

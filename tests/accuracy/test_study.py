@@ -4,15 +4,10 @@ checks the facts they are meant to show, with thresholds measured on this
 project's sweeps (docs/STABILITY.md, docs/ACCURACY.md). Timing columns are
 never asserted: speed claims come from the benchmark."""
 import csv, json, os, shutil, subprocess, sys, tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish  # noqa: E402
 
 exe, which = sys.argv[1], sys.argv[2]
-failures = []
-
-
-def check(cond, what):
-    print(("ok   " if cond else "FAIL ") + what)
-    if not cond:
-        failures.append(what)
 
 
 def png_ok(path):
@@ -111,6 +106,4 @@ finally:
     shutil.rmtree(tmp, ignore_errors=True)
 
 
-if failures:
-    print("%d check(s) failed" % len(failures))
-    sys.exit(1)
+sys.exit(finish("study " + which))

@@ -1,24 +1,17 @@
 /* SPDX-License-Identifier: MIT */
-/* The studies as tools calls (src/tools/study/study_tool.h), without the
+/* The studies as tools calls (src/tools/study/study.h), without the
  * command: argument checks and their statuses, the rows and files of a small
  * accuracy run, the callbacks, and a failing output folder. Measured facts of
  * the studies themselves are checked by test_study.py. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include "study/study_tool.h"
-
-static int failures;
-#define CHECK(c, ...)                                  \
-    do {                                               \
-        printf("%s ", (c) ? "ok  " : "FAIL");          \
-        printf(__VA_ARGS__);                           \
-        printf("\n");                                  \
-        if (!(c))                                      \
-            failures++;                                \
-    } while (0)
+#include "study/study.h"
+#include "study/stability.h" /* st_json_num: the summary's numbers */
+#include "common/check.h"
 
 typedef struct seen {
     int wrote, begin, end, nrows_at_first_wrote;
@@ -65,6 +58,7 @@ static int exists(const char *dir, const char *name)
 
 int main(void)
 {
+    check_verbose = 1;
     char dir[] = "/tmp/bg-study-tool-XXXXXX";
     if (!mkdtemp(dir)) {
         perror("mkdtemp");
@@ -145,11 +139,23 @@ int main(void)
               exists(stab, "listing1_det.csv") && !exists(stab, "inward.gp"),
           "stability: report, summary and CSVs written, no chart");
 
+    /* summary.json is JSON: a number that is not finite is null, not nan. */
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *mem = open_memstream(&buf, &len);
+    bgt_err je;
+    st_out jo = {.json = mem, .json_first = 1, .e = &je};
+    st_json_num(&jo, "a", 0.25);
+    st_json_num(&jo, "b", NAN);
+    st_json_num(&jo, "c", -INFINITY);
+    fclose(mem);
+    CHECK(buf && !strcmp(buf, "\n  \"a\": 0.25,\n  \"b\": null,\n  \"c\": null"),
+          "summary numbers: NaN and -inf are null: %s", buf ? buf : "(none)");
+    free(buf);
+
     char cmd[700];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);
-    if (failures)
-        printf("%d check(s) failed\n", failures);
-    return failures != 0;
+    return check_summary("test_study_tool");
 }

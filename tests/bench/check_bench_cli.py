@@ -6,20 +6,17 @@ asked for. Never a timing check."""
 import json
 import subprocess
 import sys
+import os
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
+
+QUIET[0] = True
 
 KERNELS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_grad_central",
            "perturb_surfgrad", "perturb_additive", "perturb_height", "fbm3",
            "noise3_point", "noise3_grad_point", "fbm3_point", "fbm3_grad_point",
            "noise3_batch1_point", "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256",
            "noise3_grid", "fbm3_grid", "fbm3_grad_grid", "stream3"]
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL: " + msg, file=sys.stderr)
 
 
 def run(exe, args):
@@ -66,9 +63,7 @@ def main():
     rc, out, err = run(exe, ["--icount", "/nonexistent/icount.txt", "--samples", "64", "--runs",
                              "1", "--threads", "1", "--kernels", "noise3", "--isa", "scalar"])
     check(rc == 1 and "--icount" in err, "unreadable --icount: exit 1 (%d %r)" % (rc, err))
-    if failures:
-        sys.exit(1)
-    print("check_bench_cli: ok")
+    sys.exit(finish("bench-cli"))
 
 
 if __name__ == "__main__":

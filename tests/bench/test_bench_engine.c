@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/bench_impl.h" /* bench_job_run, the grid rows' lattice */
+#include "bench/bench_internal.h" /* bench_job_run, the grid rows' lattice */
 #include "check.h"             /* tests/core: CHECK, check_failures */
 
 static size_t fake_points, fake_calls;
@@ -240,9 +240,5 @@ int main(void)
               !strcmp(bgt_bench_kernel_name(22), "fbm3_grad_grid") &&
               !strcmp(bgt_bench_kernel_name(23), "stream3") && !bgt_bench_kernel_name(24),
           "kernel names");
-    if (check_failures)
-        fprintf(stderr, "test_bench_engine: %d failures\n", check_failures);
-    else
-        printf("test_bench_engine: ok\n");
-    return check_failures != 0;
+    return check_summary("test_bench_engine");
 }

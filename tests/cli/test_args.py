@@ -10,26 +10,17 @@ import shutil
 import subprocess
 import sys
 import tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish, run as harness_run  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILURES = []
-PTS = b"x,y,z\n0.5,1.25,2\n3.5,-1,0.125\n"
-
-
-def check(cond, what):
-    if not cond:
-        FAILURES.append(what)
-        print("FAIL:", what)
-    return cond
+QUIET[0] = True
 
 
 def run(args, stdin=None, env_extra=None, cwd=None):
-    env = dict(os.environ)
-    env.pop("BUMPGRAD_ISA", None)
-    env.update(env_extra or {})
-    p = subprocess.run([EXE] + args, input=stdin, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       env=env, timeout=120, cwd=cwd)
-    return p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
+    return harness_run(EXE, args, stdin, env_extra, cwd)
+
+PTS = b"x,y,z\n0.5,1.25,2\n3.5,-1,0.125\n"
 
 
 def syntax():
@@ -461,7 +452,4 @@ def render_mesh():
 
 {"syntax": syntax, "csv": csv, "json": json_, "npy": npy, "help": help_, "generated": generated, "progress": progress,
  "tools": tools, "render_mesh": render_mesh}[sys.argv[2]]()
-if FAILURES:
-    print("%d failure(s)" % len(FAILURES))
-    sys.exit(1)
-print("ok")
+sys.exit(finish("cli_args " + sys.argv[2]))

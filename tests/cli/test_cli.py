@@ -18,30 +18,19 @@ import sys
 import tempfile
 
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, clean_env, finish, run as harness_run  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILURES = []
-
-
-def check(cond, what):
-    if not cond:
-        FAILURES.append(what)
-        print("FAIL:", what)
-    return cond
-
-
-def env_clean(**extra):
-    env = dict(os.environ)
-    env.pop("BUMPGRAD_ISA", None)
-    env.update(extra)
-    return env
+QUIET[0] = True
 
 
 def run(args, stdin=None, env=None, cwd=None, stdout=subprocess.PIPE):
-    p = subprocess.run([EXE] + args, input=stdin, stdout=stdout, stderr=subprocess.PIPE,
-                       env=env or env_clean(), cwd=cwd, timeout=120)
-    out = p.stdout.decode() if isinstance(p.stdout, bytes) else ""
-    return p.returncode, out, p.stderr.decode(errors="replace")
+    return harness_run(EXE, args, stdin, env, cwd, stdout=stdout)
+
+
+def env_clean(**extra):
+    return clean_env(extra)
 
 
 # ---- independent reference: Perlin's improved noise (2002), in Python doubles ----
@@ -688,7 +677,4 @@ TESTS = {"main": test_main, "eval": test_eval, "perturb": test_perturb,
 
 if __name__ == "__main__":
     TESTS[sys.argv[2]]()
-    if FAILURES:
-        print("%d check(s) failed" % len(FAILURES))
-        sys.exit(1)
-    print("all checks passed")
+    sys.exit(finish("cli " + sys.argv[2]))

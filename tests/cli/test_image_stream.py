@@ -13,21 +13,15 @@ import subprocess
 import sys
 import tempfile
 import zlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish, run as harness_run  # noqa: E402
 
 EXE = sys.argv[1]
-FAILS = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILS.append(what)
 
 
 def run(args, stdin=None):
-    env = dict(os.environ, BUMPGRAD_NO_PROGRESS="1")
-    p = subprocess.run([EXE] + args, input=stdin, capture_output=True, env=env, timeout=120)
-    return p.returncode, p.stdout, p.stderr.decode(errors="replace")
+    rc, out, err = harness_run(EXE, args, stdin, {"BUMPGRAD_NO_PROGRESS": "1"}, text=False)
+    return rc, out, err.decode(errors="replace")
 
 
 def png_decode(data):
@@ -203,4 +197,4 @@ rc, out, err = run(["mesh", "no_such.ply", "--bake-normal-map", "m.png", "--size
 check(rc == 2 and "disagrees" in err and out == b"",
       "mesh --format exr with --bake-normal-map m.png: refused, exit 2: %r" % err)
 
-sys.exit(1 if FAILS else 0)
+sys.exit(finish("cli_image_stream"))

@@ -3,6 +3,8 @@
 place, never replaced by a renamed temporary file (which, as root, would turn
 /dev/null into a regular file)."""
 import atexit, os, shutil, stat, subprocess, sys, tempfile, threading
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish  # noqa: E402
 
 exe = sys.argv[1]
 tmp = tempfile.mkdtemp(prefix="bg-fifo-")
@@ -18,11 +20,6 @@ reader.start()
 r = subprocess.run([exe, "eval", "--function", "noise", "--precision", "double",
                     "--input", inp, "--output", fifo], capture_output=True, text=True, timeout=60)
 reader.join(timeout=60)
-fails = 0
-def check(c, what):
-    global fails
-    print(("ok   " if c else "FAIL ") + what)
-    fails += not c
 check(r.returncode == 0, "eval to a FIFO exits 0 (%s)" % r.stderr.strip())
 check(stat.S_ISFIFO(os.stat(fifo).st_mode), "the FIFO is still a FIFO")
 check(bool(got) and "0.13691995878400012" in got[0], "the reader received the rows")
@@ -30,4 +27,4 @@ check(sorted(os.listdir(tmp)) == ["in.csv", "out.fifo"], "no temporary files lef
 r = subprocess.run([exe, "eval", "--function", "noise", "--input", inp, "--output", tmp],
                    capture_output=True, text=True)
 check(r.returncode != 0 and tmp in r.stderr, "a folder as output is refused with its name")
-sys.exit(1 if fails else 0)
+sys.exit(finish("special_output"))

@@ -14,15 +14,10 @@ import subprocess
 import sys
 import tempfile
 import time
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILURES = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILURES.append(what)
 
 
 def temps(d):
@@ -81,6 +76,4 @@ with tempfile.TemporaryDirectory() as d:
     check(os.path.basename(live) in now, "a live process's temporary is kept")
     check(os.path.basename(other) in now, "another target's temporary is kept")
 
-if FAILURES:
-    print(f"{len(FAILURES)} failure(s)")
-    sys.exit(1)
+sys.exit(finish("temps"))

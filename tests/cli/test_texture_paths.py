@@ -13,27 +13,16 @@ usage: test_texture_paths.py BUMPGRAD"""
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish, run as harness_run, two_quads  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILS = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILS.append(what)
-    return cond
 
 
 def run(args, cwd):
-    env = dict(os.environ, BUMPGRAD_NO_PROGRESS="1")
-    env.pop("BUMPGRAD_ISA", None)
-    p = subprocess.run([EXE, "render"] + args, cwd=cwd, env=env, capture_output=True, text=True,
-                       timeout=120)
-    return p.returncode, p.stdout, p.stderr
+    return harness_run(EXE, ["render"] + args, env={"BUMPGRAD_NO_PROGRESS": "1"}, cwd=cwd)
 
 
 def ppm(path, rgb):
@@ -48,22 +37,6 @@ def read_ppm(path):
     assert fields[0] == b"P6" and fields[3] == b"255", fields[:4]
     w, h = int(fields[1]), int(fields[2])
     return w, h, data[len(data) - w * h * 3:]
-
-
-def two_quads(d, left, right):
-    """d/two.obj: the left quad in material 'left' (map_Kd `left`), the right
-    one in 'right' (map_Kd `right`), paths written as given."""
-    os.makedirs(d, exist_ok=True)
-    with open(os.path.join(d, "two.mtl"), "w") as f:
-        f.write("newmtl left\nKd 1 1 1\nmap_Kd %s\nnewmtl right\nKd 1 1 1\nmap_Kd %s\n"
-                % (left, right))
-    mesh = os.path.join(d, "two.obj")
-    with open(mesh, "w") as f:
-        f.write("mtllib two.mtl\nv -1 -0.5 0\nv 0 -0.5 0\nv 0 0.5 0\nv -1 0.5 0\nv 1 -0.5 0\n"
-                "v 1 0.5 0\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                "usemtl left\nf 1/1/1 2/2/1 3/3/1 4/4/1\n"
-                "usemtl right\nf 2/1/1 5/2/1 6/3/1 3/4/1\n")
-    return mesh
 
 
 def sides(mesh, tmp, what):
@@ -196,5 +169,4 @@ if __name__ == "__main__":
     for name, t in TESTS.items():
         with tempfile.TemporaryDirectory() as tmp:
             t(os.path.realpath(tmp))
-    print("%d check(s) failed" % len(FAILS) if FAILS else "all checks passed")
-    sys.exit(1 if FAILS else 0)
+    sys.exit(finish("texture_paths"))

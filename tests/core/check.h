@@ -1,24 +1,13 @@
 /* SPDX-License-Identifier: MIT */
-/* Minimal test vocabulary for tests/core: every check prints what failed and
- * counts; main() returns nonzero if any failed, so meson marks the test red. */
+/* tests/core's helpers on top of the common checks (common/check.h): float
+ * rounding that the optimiser cannot fold, and near-lattice test points. */
 #ifndef BUMPGRAD_TESTS_CHECK_H
 #define BUMPGRAD_TESTS_CHECK_H
 
 #include <math.h>
 #include <stdio.h>
+#include "common/check.h"
 #include "ref.h"
-
-static int check_failures;
-
-#define CHECK(cond, ...)                                         \
-    do {                                                         \
-        if (!(cond)) {                                           \
-            check_failures++;                                    \
-            printf("  FAIL %s:%d: ", __FILE__, __LINE__);        \
-            printf(__VA_ARGS__);                                 \
-            printf("\n");                                        \
-        }                                                        \
-    } while (0)
 
 /* double -> float through a volatile: gcc 12 at -O2/-O3 was seen folding
  * (double)(float)u back to u at one use of a converted value and not at
@@ -45,15 +34,6 @@ static inline float check_near_lattice_f(ref_rng *r)
     for (int i = 0; i < mode - 1; i++)
         k = nextafterf(k, dir);
     return nextafterf(k, dir);
-}
-
-static inline int check_summary(const char *name)
-{
-    if (check_failures)
-        printf("%s: %d check(s) FAILED\n", name, check_failures);
-    else
-        printf("%s: all checks passed\n", name);
-    return check_failures ? 1 : 0;
 }
 
 #endif

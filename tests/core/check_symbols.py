@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Fail on any exported/global symbol of libbumpgrad that does not start with
-bg_ (STYLE.md 5): a stray helper would clash with user code at link time.
+bg_ (docs/DESIGN.md, rule 5): a stray helper would clash with user code at link time.
 
 usage: check_symbols.py NM SHARED_LIB STATIC_LIB
 Shared library: `nm -D --defined-only` (the dynamic symbol table, i.e. what the

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Test vocabulary for tests/framework: checks that print and count, and a small
+/* Test vocabulary for tests/framework: the common checks, and a small
  * double-precision vector toolkit written here, independently of src/, so the
  * references in these tests share no code with the functions they check. */
 #ifndef BUMPGRAD_TESTS_FW_CHECK_H
@@ -9,27 +9,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include "bumpgrad.h"
-
-static int fw_failures;
-
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fw_failures++;                                                                         \
-            printf("  FAIL %s:%d: ", __FILE__, __LINE__);                                          \
-            printf(__VA_ARGS__);                                                                   \
-            printf("\n");                                                                          \
-        }                                                                                          \
-    } while (0)
-
-static inline int fw_summary(const char *name)
-{
-    if (fw_failures)
-        printf("%s: %d check(s) FAILED\n", name, fw_failures);
-    else
-        printf("%s: all checks passed\n", name);
-    return fw_failures ? 1 : 0;
-}
+#include "common/check.h"
 
 typedef struct {
     double x, y, z;

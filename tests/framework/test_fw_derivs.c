@@ -508,5 +508,5 @@ int main(void)
     test_tangent_frame();
     test_ray_differentials();
     test_inv_viewproj();
-    return fw_summary("test_fw_derivs");
+    return check_summary("test_fw_derivs");
 }

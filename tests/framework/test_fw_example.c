@@ -5,6 +5,7 @@
  * weights' effect). */
 #include <math.h>
 #include <stdio.h>
+#include "common/check.h"
 
 /* ---- begin docs/FRAMEWORK.md example ---- */
 #include <bumpgrad.h>
@@ -41,15 +42,6 @@ bg_vec3 shade_normal(bg_vec3 p, bg_vec3 nv, bg_vec3 tv, float tsign, bg_vec3 cam
 }
 /* ---- end docs/FRAMEWORK.md example ---- */
 
-static int fails;
-#define EXPECT(c, msg)                                                                             \
-    do {                                                                                           \
-        if (!(c)) {                                                                                \
-            fails++;                                                                               \
-            printf("  FAIL %s:%d: %s\n", __FILE__, __LINE__, msg);                                 \
-        }                                                                                          \
-    } while (0)
-
 int main(void)
 {
     float tex[16];
@@ -65,15 +57,14 @@ int main(void)
     bg_vec3 r = shade_normal(p, n, t, 1.0f, cam, dir, ddx, ddy, flat, uv, duvdx, duvdy, &bump,
                              &solid);
     double len = sqrt((double)r.x * r.x + (double)r.y * r.y + (double)r.z * r.z);
-    EXPECT(fabs(len - 1) < 1e-6, "result not unit");
-    EXPECT(r.z > 0.5f, "result faces away from the viewer");
+    CHECK(fabs(len - 1) < 1e-6, "result not unit");
+    CHECK(r.z > 0.5f, "result faces away from the viewer");
     /* The ramp rises along +s = +x, so the normal tilts toward -x; y untouched. */
-    EXPECT(r.x < -0.01f && fabsf(r.y) < 1e-6f, "height texture slope missing or wrong");
+    CHECK(r.x < -0.01f && fabsf(r.y) < 1e-6f, "height texture slope missing or wrong");
     /* Seen from behind, the back-side rule flips the base normal. */
     bg_vec3 cam2 = {0.1f, 0.2f, -5}, dir2 = {0, 0, 1};
     bg_vec3 r2 = shade_normal(p, n, t, 1.0f, cam2, dir2, ddx, ddy, flat, uv, duvdx, duvdy, &bump,
                               &solid);
-    EXPECT(r2.z < -0.5f, "back side must face the viewer");
-    printf("test_fw_example: %s\n", fails ? "FAILED" : "all checks passed");
-    return fails ? 1 : 0;
+    CHECK(r2.z < -0.5f, "back side must face the viewer");
+    return check_summary("test_fw_example");
 }

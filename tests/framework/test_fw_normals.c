@@ -413,5 +413,5 @@ int main(void)
     test_mikktspace();
     test_face_forward();
     test_orange_bump();
-    return fw_summary("test_fw_normals");
+    return check_summary("test_fw_normals");
 }

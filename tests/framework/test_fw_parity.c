@@ -452,5 +452,5 @@ int main(void)
     test_bitangent_sign();
     test_mip_derivs();
     test_scale_dependent_and_parallax();
-    return fw_summary("test_fw_parity");
+    return check_summary("test_fw_parity");
 }

@@ -223,5 +223,5 @@ int main(void)
     test_wrap();
     test_convergence();
     test_listing2_through_eq3();
-    return fw_summary("test_fw_texture");
+    return check_summary("test_fw_texture");
 }

@@ -21,22 +21,15 @@ import sys
 import tempfile
 
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import FAILURES, check  # noqa: E402
 
 GROUP, BUMPGRAD, ORACLE, MODELS = sys.argv[1:5]
-FAILS = []
 
 # One height field for all checks: non-default in every parameter, so that an
 # option the command dropped on the way would show.
 HEIGHT = ["--function", "fbm", "--octaves", "4", "--lacunarity", "2.1", "--gain", "0.55",
           "--amplitude", "0.35", "--frequency", "3.7"]
-
-
-def check(cond, what):
-    if not cond:
-        FAILS.append(what)
-        print("FAIL:", what)
-    else:
-        print("ok:", what)
 
 
 def run(args, expect=None):
@@ -772,8 +765,8 @@ def main():
         {"vertex": group_vertex, "recompute": group_recompute, "degenerate": group_degenerate,
          "errors": group_errors, "bake": group_bake, "formats": group_formats,
          "udim": group_udim}[GROUP](tmp)
-    print("%d failure(s)" % len(FAILS))
-    return 1 if FAILS else 0
+    print("%d failure(s)" % len(FAILURES))
+    return 1 if FAILURES else 0
 
 
 if __name__ == "__main__":

@@ -5,27 +5,13 @@
  * decrease and never pass the total (with one thread: the last equals it),
  * end once; the result lists tiles 1001 and 1002. Tools build. */
 #define _POSIX_C_SOURCE 200809L
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "common/check.h"
 #include "mesh/mesh_tool.h"
-
-static int failures;
-/* one line per check, "ok:" or "FAIL:", counted */
-static void check(int ok, const char *fmt, ...) BGT_PRINTF(2, 3);
-static void check(int ok, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs(ok ? "ok: " : "FAIL: ", stdout);
-    vprintf(fmt, ap);
-    putchar('\n');
-    va_end(ap);
-    failures += !ok;
-}
 
 typedef struct seen {
     int begins, ends, bad_order;
@@ -51,6 +37,7 @@ static void on_end(void *ctx) { ((seen *)ctx)->ends++; }
 
 int main(void)
 {
+    check_verbose = 1;
     char dir[] = "/tmp/bg-mesh-progress-XXXXXX";
     if (!mkdtemp(dir))
         return 1;
@@ -89,7 +76,7 @@ int main(void)
         bgt_err e;
         memset(&e, 0, sizeof e);
         bg_status st = bgt_mesh_run(&o, &r, &e);
-        check(st == BG_OK, "%d thread(s): bgt_mesh_run: %s", threads, st == BG_OK ? "ok" : e.msg);
+        CHECK(st == BG_OK, "%d thread(s): bgt_mesh_run: %s", threads, st == BG_OK ? "ok" : e.msg);
         if (st != BG_OK) {
             if (e.status == BG_ERR_IO && strstr(e.msg, "I/O module")) {
                 printf("skip: %s\n", e.msg);
@@ -98,23 +85,22 @@ int main(void)
             continue;
         }
         size_t total = 2u * 64u * 48u;
-        check(s.begins == 1 && s.ends == 1 && strcmp(s.label, "bake") == 0 && s.total == total,
+        CHECK(s.begins == 1 && s.ends == 1 && strcmp(s.label, "bake") == 0 && s.total == total,
               "begin once (\"%s\", %zu texels, want %zu), end once (%d)", s.label, s.total, total,
               s.ends);
-        check(s.updates > 0 && s.bad_order == 0 && (threads > 1 || s.last == total),
+        CHECK(s.updates > 0 && s.bad_order == 0 && (threads > 1 || s.last == total),
               "%zu updates, never decreasing nor past the total, last %zu", s.updates, s.last);
-        check(r.bake.tiles == 2 && r.bake.tile_udim[0] == 1001 && r.bake.tile_udim[1] == 1002 &&
+        CHECK(r.bake.tiles == 2 && r.bake.tile_udim[0] == 1001 && r.bake.tile_udim[1] == 1002 &&
                   access(t1, F_OK) == 0 && access(t2, F_OK) == 0,
               "result lists tiles %d, %d (%zu tiles), both written",
               r.bake.tiles > 0 ? r.bake.tile_udim[0] : 0, r.bake.tiles > 1 ? r.bake.tile_udim[1] : 0,
               r.bake.tiles);
         /* the whole quad of each tile is covered: 64 x 48 texels per tile */
-        check(r.bake.covered == total, "covered texels summed over the tiles: %zu", r.bake.covered);
+        CHECK(r.bake.covered == total, "covered texels summed over the tiles: %zu", r.bake.covered);
         remove(t1);
         remove(t2);
     }
     remove(ply);
     rmdir(dir);
-    printf("%d failure(s)\n", failures);
-    return failures ? 1 : 0;
+    return check_summary("test_mesh_progress");
 }

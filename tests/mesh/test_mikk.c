@@ -15,17 +15,8 @@
 #include "mikk_cases.h"
 #include "mikk_expected.h"
 #include "mikk_pole.h"
+#include "common/check.h"
 
-static int failures;
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            failures++;                                                                            \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                            \
-            printf(__VA_ARGS__);                                                                   \
-            printf("\n");                                                                          \
-        }                                                                                          \
-    } while (0)
 
 static bgt_mikk_mesh view(const mc_mesh *m)
 {
@@ -306,6 +297,5 @@ int main(void)
     test_encode_decode();
     test_islands();
     test_errors();
-    printf("%s\n", failures ? "FAILED" : "ok");
-    return failures ? 1 : 0;
+    return check_summary("test_mikk");
 }

@@ -6,18 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include "ref.h"
-
-static int failures;
-
-#define CHECK(cond, ...)                                          \
-    do {                                                          \
-        if (!(cond)) {                                            \
-            failures++;                                           \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);           \
-            printf(__VA_ARGS__);                                  \
-            printf("\n");                                         \
-        }                                                         \
-    } while (0)
+#include "common/check.h"
 
 int main(void)
 {
@@ -100,6 +89,5 @@ int main(void)
     printf("reference |n . grad_S| over 1000 cases (|g| <= 17): %.3g\n", maxt);
     CHECK(maxt < 1e-13, "not tangent");
 
-    printf(failures ? "ref_selftest: %d FAILED\n" : "ref_selftest: all passed\n", failures);
-    return failures ? 1 : 0;
+    return check_summary("ref_selftest");
 }

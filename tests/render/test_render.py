@@ -18,26 +18,14 @@ import shutil
 import subprocess
 import sys
 import tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish, run as harness_run, two_quads  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILURES = []
-
-
-def check(cond, what):
-    if not cond:
-        FAILURES.append(what)
-        print("FAIL:", what)
-    else:
-        print("ok:", what)
-    return cond
 
 
 def run(args, cwd):
-    env = dict(os.environ)
-    env.pop("BUMPGRAD_ISA", None)
-    p = subprocess.run([EXE, "render"] + args, cwd=cwd, env=env, stdout=subprocess.PIPE,
-                       stderr=subprocess.PIPE, text=True, timeout=120)
-    return p.returncode, p.stdout, p.stderr
+    return harness_run(EXE, ["render"] + args, cwd=cwd)
 
 
 def stats(out, kind="stats"):
@@ -478,15 +466,8 @@ def t_materials(tmp):
     ppm("red.ppm", (230, 20, 20))
     ppm("blue.ppm", (20, 20, 230))
     ppm("green.ppm", (20, 230, 20))
-    with open(os.path.join(tmp, "two.mtl"), "w") as f:
-        f.write("newmtl red\nKd 1 1 1\nmap_Kd red.ppm\nnewmtl blue\nKd 1 1 1\nmap_Kd blue.ppm\n")
-    mesh = os.path.join(tmp, "two.obj")
-    with open(mesh, "w") as f:
-        f.write("mtllib two.mtl\nv -1 -0.5 0\nv 0 -0.5 0\nv 0 0.5 0\nv -1 0.5 0\nv 1 -0.5 0\n"
-                "v 1 0.5 0\nvn 0 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                # the blue face first in the file, so file order is what is checked
-                "usemtl blue\nf 2/1/1 5/2/1 6/3/1 3/4/1\n"
-                "usemtl red\nf 1/1/1 2/2/1 3/3/1 4/4/1\n")
+    # the blue (right) face first in the file, so file order is what is checked
+    mesh = two_quads(tmp, "red.ppm", "blue.ppm", names=("red", "blue"), right_first=True)
     out = os.path.join(tmp, "two.ppm")
 
     def sides(extra):
@@ -599,6 +580,4 @@ if __name__ == "__main__":
         sys.exit(77)
     with tempfile.TemporaryDirectory() as tmp:
         TESTS[sys.argv[2]](tmp)
-    if FAILURES:
-        print(f"{len(FAILURES)} failure(s)")
-        sys.exit(1)
+    sys.exit(finish("render " + sys.argv[2]))

@@ -12,24 +12,24 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include "render/render.h"
-
-static int failures;
-#define CHECK(c, ...)                                     \
-    do {                                                  \
-        if (!(c)) {                                       \
-            failures++;                                   \
-            fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__); \
-            fprintf(stderr, __VA_ARGS__);                 \
-            fputc('\n', stderr);                          \
-        }                                                 \
-    } while (0)
+#include "render/render_internal.h"
+#include "common/check.h"
 
 static unsigned long long rng = 0x9E3779B97F4A7C15ull;
 static double urand(void) /* [-1, 1), xorshift64* */
 {
     rng ^= rng >> 12, rng ^= rng << 25, rng ^= rng >> 27;
     return (double)((rng * 2685821657736338717ull) >> 11) / 4503599627370496.0 - 1.0;
+}
+
+/* d = the unit direction from o towards t */
+static void aim(const float o[3], const float t[3], float d[3])
+{
+    for (int k = 0; k < 3; k++)
+        d[k] = t[k] - o[k];
+    float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++)
+        d[k] /= l;
 }
 
 static void test_listing1_plane(void)
@@ -138,11 +138,7 @@ static void test_mesh(render_shape shape)
         if (shape == RENDER_TORUS) /* aim at random points near the ring */
             for (int k = 0; k < 3; k++)
                 target[k] = (float)(0.4 * urand());
-        for (int k = 0; k < 3; k++)
-            d[k] = target[k] - o[k];
-        float dl = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int k = 0; k < 3; k++)
-            d[k] /= dl;
+        aim(o, target, d);
         render_hit a, b;
         int ha = render_mesh_intersect(&m, o, d, INFINITY, &a), hb = brute(&m, o, d, &b);
         if (ha != hb || (ha && a.t != b.t))
@@ -199,11 +195,7 @@ static void test_embree(render_shape shape)
         for (int k = 0; k < 3; k++)
             o[k] = (float)(urand() * 3.0), tgt[k] = (float)(urand() * 0.8);
         o[2] += (o[2] >= 0 ? 3.0f : -3.0f);
-        for (int k = 0; k < 3; k++)
-            d[k] = tgt[k] - o[k];
-        float l = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        for (int k = 0; k < 3; k++)
-            d[k] /= l;
+        aim(o, tgt, d);
         render_hit a, b;
         int ha = render_mesh_intersect(&m, o, d, INFINITY, &a), hb = render_embree_intersect(rt, o, d, &b);
         CHECK(ha == hb, "ray %d: bvh hit %d, embree hit %d", i, ha, hb);
@@ -242,7 +234,5 @@ int main(void)
     test_mesh(RENDER_BLOB);
     test_mesh(RENDER_TORUS);
     test_names();
-    if (failures)
-        fprintf(stderr, "%d failure(s)\n", failures);
-    return failures ? 1 : 0;
+    return check_summary("test_render_unit");
 }

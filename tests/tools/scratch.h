@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The scratch folder and check macro of the tools' unit tests (test_bake.c,
+/* The scratch folder of the tools' unit tests (test_bake.c,
  * test_io.c): one fresh folder per run under the build directory, paths in
  * it, a count of temporaries a failed write left behind. Include once, from
  * the test's main file (it defines the test's static state). */
@@ -10,17 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static int failures;
-#define CHECK(cond, ...)                                  \
-    do {                                                  \
-        if (!(cond)) {                                    \
-            failures++;                                   \
-            printf("  FAIL %s:%d: ", __FILE__, __LINE__); \
-            printf(__VA_ARGS__);                          \
-            printf("\n");                                 \
-        }                                                 \
-    } while (0)
+#include "common/check.h"
 
 static char dir[4096]; /* the scratch folder */
 
@@ -43,6 +33,7 @@ static void scratch_remove(void)
     if (system(cmd) != 0)
         printf("  note: could not remove %s\n", dir);
 }
+
 
 /* dir/name, valid until 8 more calls. */
 static const char *path_in(const char *name)
@@ -67,6 +58,41 @@ static int temp_leftovers(void)
     if (d)
         closedir(d);
     return n;
+}
+
+/* The verdict (check_summary) as main's exit status; the folder is removed
+ * after a passing run. */
+static inline int scratch_finish(const char *name)
+{
+    if (!check_failures)
+        scratch_remove();
+    return check_summary(name);
+}
+
+/* A test program's main: `PROG GROUP SCRATCH_PARENT` runs the group of that
+ * name in a fresh scratch folder, which is removed after a passing run; the
+ * verdict (check_summary) is the exit status, 2 for a bad call. */
+typedef struct scratch_group {
+    const char *name;
+    void (*run)(void);
+} scratch_group;
+
+static inline int scratch_main(int argc, char **argv, const char *prog, const scratch_group *groups,
+                        size_t ngroups)
+{
+    for (size_t i = 0; argc == 3 && i < ngroups; i++) {
+        if (strcmp(argv[1], groups[i].name) != 0)
+            continue;
+        if (!scratch_create(argv[2], prog, argv[1]))
+            return 1;
+        groups[i].run();
+        return scratch_finish(argv[1]);
+    }
+    fprintf(stderr, "usage: %s GROUP SCRATCH_PARENT; groups:", prog);
+    for (size_t i = 0; i < ngroups; i++)
+        fprintf(stderr, " %s", groups[i].name);
+    fputc('\n', stderr);
+    return 2;
 }
 
 #endif

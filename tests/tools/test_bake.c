@@ -11,7 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "bake/bake.h"
+#include "bake/heightmap.h"
+#include "bake/volume.h"
 #include "bumpgrad/image.h"
 #include "mesh/mesh_tool.h"
 #include "scratch.h"
@@ -322,22 +323,9 @@ static void test_mesh(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_bake heightmap|volume|mesh SCRATCH_DIR\n");
-        return 2;
-    }
-    if (!scratch_create(argv[2], "test_bake", argv[1]))
-        return 1;
-    if (strcmp(argv[1], "heightmap") == 0)
-        test_heightmap();
-    else if (strcmp(argv[1], "volume") == 0)
-        test_volume();
-    else if (strcmp(argv[1], "mesh") == 0)
-        test_mesh();
-    else
-        return 2;
-    printf("%s: %d failure(s)\n", argv[1], failures);
-    if (!failures)
-        scratch_remove();
-    return failures ? 1 : 0;
+    static const scratch_group groups[] = {
+        {"heightmap", test_heightmap},
+        {"volume", test_volume},
+        {"mesh", test_mesh}};
+    return scratch_main(argc, argv, "test_bake", groups, sizeof groups / sizeof groups[0]);
 }

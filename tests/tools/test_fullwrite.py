@@ -14,15 +14,10 @@ import signal
 import subprocess
 import sys
 import tempfile
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILURES = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILURES.append(what)
 
 
 def run(args, limit=None, cwd=None):
@@ -64,6 +59,4 @@ with tempfile.TemporaryDirectory() as d:
         left = [f for f in os.listdir(d) if ".tmp" in f]
         check(not left, f"{name}: no temporary left ({left})")
 
-if FAILURES:
-    print(f"{len(FAILURES)} failure(s)")
-    sys.exit(1)
+sys.exit(finish("fullwrite"))

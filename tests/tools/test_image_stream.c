@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "bumpgrad/image.h"
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 
 static int status_exit(bg_status st, const char *msg)
 {

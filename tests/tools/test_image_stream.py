@@ -18,21 +18,15 @@ import tempfile
 import zlib
 
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import PASSED, check, clean_env, finish  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-COUNTS = {"passed": 0, "failed": 0}
-
-
-def check(cond, what):
-    """One check: a line per check, and the totals at the end."""
-    COUNTS["passed" if cond else "failed"] += 1
-    print(("ok: " if cond else "FAIL: ") + what, flush=True)
 
 
 def run(args, stdin=b"", env=None):
-    e = dict(os.environ)
-    e.update(env or {})
-    return subprocess.run([EXE] + args, input=stdin, env=e, capture_output=True, timeout=120)
+    return subprocess.run([EXE] + args, input=stdin, env=clean_env(env), capture_output=True,
+                          timeout=120)
 
 
 def pattern(w, h, c=3):
@@ -233,5 +227,5 @@ if r.returncode == 0:
 r = run(["heightmap"], stdin=b"")
 check(r.returncode == 2 and r.stdout == b"", "heightmap with empty stdin: exit 2, no output")
 
-print("%(passed)d passed, %(failed)d failed" % COUNTS)
-sys.exit(1 if COUNTS["failed"] or not COUNTS["passed"] else 0)
+check(PASSED[0] > 0, "some checks ran")
+sys.exit(finish("tools_image_stream"))

@@ -463,22 +463,9 @@ static void test_volume(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_io {image|volume|errors} SCRATCH_PARENT\n");
-        return 2;
-    }
-    if (!scratch_create(argv[2], "test_io", argv[1]))
-        return 2;
-    if (strcmp(argv[1], "image") == 0)
-        test_image();
-    else if (strcmp(argv[1], "volume") == 0)
-        test_volume();
-    else if (strcmp(argv[1], "errors") == 0)
-        test_errors();
-    else
-        return 2;
-    printf("test_io %s: %s\n", argv[1], failures ? "FAILED" : "all checks passed");
-    if (!failures)
-        scratch_remove();
-    return failures ? 1 : 0;
+    static const scratch_group groups[] = {
+        {"image", test_image},
+        {"volume", test_volume},
+        {"errors", test_errors}};
+    return scratch_main(argc, argv, "test_io", groups, sizeof groups / sizeof groups[0]);
 }

@@ -16,15 +16,10 @@ import sys
 import tempfile
 import time
 import zlib
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import check, finish  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
-FAILURES = []
-
-
-def check(cond, what):
-    print(("ok: " if cond else "FAIL: ") + what)
-    if not cond:
-        FAILURES.append(what)
 
 
 def run(args, cwd, timeout=120, **env):
@@ -245,6 +240,4 @@ with tempfile.TemporaryDirectory() as d:
         rc, err, dt = run([cmd, name, "out.png" if cmd == "heightmap" else "out.ply"], d, timeout=30)
         check(rc != 0 and "regular file" in err and dt < 20, f"{cmd} refuses a FIFO input ({err.strip()})")
 
-if FAILURES:
-    print(f"{len(FAILURES)} failure(s)")
-    sys.exit(1)
+sys.exit(finish("limits"))

@@ -126,8 +126,5 @@ int main(int argc, char **argv)
     CHECK(strcmp(mesh_texture_origin(origin, sizeof origin, "a.obj", 2, "x"),
                  "material 2 'x' of a.obj") == 0, "origin label: %s", origin);
 
-    if (failures == 0)
-        scratch_remove();
-    printf("%s: %d failure(s)\n", failures ? "FAIL" : "ok", failures);
-    return failures != 0;
+    return scratch_finish("test_mesh_texpath");
 }

@@ -11,10 +11,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 #include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
-#include "render/render.h"
+#include "render/render_internal.h"
 
 static uint64_t rng = 0x9e3779b97f4a7c15u;
 static float urand(void) /* [-1, 1) */

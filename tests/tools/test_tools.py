@@ -20,29 +20,21 @@ import tempfile
 import zlib
 
 import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish, run as harness_run  # noqa: E402
 
 EXE = os.path.abspath(sys.argv[1])
+QUIET[0] = True
+
+
+def run(args, exe=None):
+    return harness_run(exe or EXE, args, timeout=150)
+
 WHAT = sys.argv[2]
 OIIOTOOL = os.environ.get("OIIOTOOL", "oiiotool")
 IINFO = os.environ.get("IINFO", "iinfo")
 IDIFF = os.environ.get("IDIFF", "idiff")
 VDB_PRINT = os.environ.get("VDB_PRINT", "vdb_print")
-FAILURES = []
-
-
-def check(cond, what):
-    if not cond:
-        FAILURES.append(what)
-        print("FAIL:", what)
-    return cond
-
-
-def run(args, exe=None):
-    env = dict(os.environ)
-    env.pop("BUMPGRAD_ISA", None)
-    p = subprocess.run([exe or EXE] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                       env=env, timeout=150)
-    return p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
 
 
 def write_png_rgb8(path, rgb):
@@ -485,11 +477,7 @@ def main():
              "heightgrid": t_heightgrid, "badinput": t_badinput}
     with tempfile.TemporaryDirectory(prefix="bumpgrad_tools_") as tmp:
         tests[WHAT](tmp)
-    if FAILURES:
-        print(f"{len(FAILURES)} failure(s)")
-        return 1
-    print("ok")
-    return 0
+    return finish("tools " + WHAT)
 
 
 if __name__ == "__main__":

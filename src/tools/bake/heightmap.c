@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include "bake/bake.h"
+#include "bake/heightmap.h"
 #include "bumpgrad/framework.h"
 #include "bumpgrad/image.h"
 

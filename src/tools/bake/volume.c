@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "bake/bake.h"
+#include "bake/volume.h"
 #include "bumpgrad/volume.h"
 #include "common/parallel.h"
 

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/bench_impl.h"
+#include "bench/bench_internal.h"
 
 /* ISAs: all that this build and CPU have, or the one asked for. */
 static bg_status select_isas(int isa, int on[BG_ISA_COUNT], bgt_err *e)

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/bench_impl.h"
+#include "bench/bench_internal.h"
 
 typedef struct kernel_info {
     const char *name;
@@ -80,7 +80,7 @@ static void run_points(const bench_job *j, size_t b, size_t e)
     }
 }
 
-/* The grid rows' lattice (bench_impl.h): sample index i is (i % side,
+/* The grid rows' lattice (bench_internal.h): sample index i is (i % side,
  * i / side % side, i / side^2), the grid calls' storage order, so the points
  * [b, e) of a thread are at most five sub-grids (a partial row, whole rows,
  * whole slices, whole rows, a partial row) whose outputs are d->v + b onwards

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "bench/bench_impl.h"
+#include "bench/bench_internal.h"
 
 /* Points are random in [-BOX, BOX]^3, not on a grid: consecutive samples share no
  * lattice cell, so no kernel profits from a coherence the test alone would have,

@@ -1,10 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* bgt_eval_run (points.h): noise / fBm / turbulence value and gradient at
- * every row of a CSV table, float or double, analytic or central. */
+ * every row of a table, float or double, analytic or central (the table pass,
+ * table.c, reads and writes the tables). */
 #include "points.h"
-#include "common/csv.h"
-#include "common/npy.h"
-#include "table.h"
+#include "points_internal.h"
 
 #define EVAL_BLOCK 8192
 #define EVAL_CHUNK 1024
@@ -58,46 +57,17 @@ static void eval_bind(void *ctx, void *mem)
     }
 }
 
-static void eval_write(void *ctx, FILE *fp, const bgt_csv *inp, bgt_npy_out *npy, size_t rows)
-{
-    eval_job *j = ctx;
-    if (npy) {
-        bgt_npy_write(npy, (const float *const *)j->fc, (const double *const *)j->dc, rows);
-    } else if (j->dbl) {
-        double **c = j->dc;
-        for (size_t r = 0; r < rows; r++) {
-            const char *x;
-            size_t xl;
-            bgt_csv_write_row_prefix(fp, inp, r, &x, &xl);
-            fprintf(fp, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", c[0][r], c[1][r], c[2][r],
-                    c[3][r], c[4][r], c[5][r], c[6][r]);
-            bgt_csv_write_row_suffix(fp, inp, x, xl);
-        }
-    } else {
-        float **c = j->fc;
-        for (size_t r = 0; r < rows; r++) {
-            const char *x;
-            size_t xl;
-            bgt_csv_write_row_prefix(fp, inp, r, &x, &xl);
-            fprintf(fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", (double)c[0][r], (double)c[1][r],
-                    (double)c[2][r], (double)c[3][r], (double)c[4][r], (double)c[5][r],
-                    (double)c[6][r]);
-            bgt_csv_write_row_suffix(fp, inp, x, xl);
-        }
-    }
-}
-
 bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
 {
     eval_job job = {.f = &o->fractal, .central = o->central, .dbl = o->dbl, .step = o->step};
     bgt_table_pass p = {
         .label = "eval", .input = o->input, .output = o->output,
         .allow_nonfinite = o->allow_nonfinite, .names = eval_header, .count = 3, .dbl = o->dbl,
-        .npy_cols = 7, .csv_header = "x,y,z,value,dx,dy,dz", .block = EVAL_BLOCK,
+        .cols = 7, .csv_header = "x,y,z,value,dx,dy,dz", .block = EVAL_BLOCK,
         .chunk = EVAL_CHUNK, .threads = o->threads,
         .mem_bytes = 7 * EVAL_BLOCK * (o->dbl ? sizeof(double) : sizeof(float)),
         .bind = eval_bind, .fcols = job.fc, .dcols = job.dc, .chunk_fn = eval_chunk,
-        .write = eval_write, .ctx = &job, .progress = o->progress,
+        .ctx = &job, .progress = o->progress,
         .rows = o->stats ? &o->stats->rows : NULL};
     return bgt_table_run(&p, e);
 }

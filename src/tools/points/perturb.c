@@ -1,12 +1,10 @@
 /* SPDX-License-Identifier: MIT */
-/* bgt_perturb_run (points.h): bump the normals of a CSV table of surface
+/* bgt_perturb_run (points.h): bump the normals of a table of surface
  * points with the height source, through the library's fused height -> normal
  * kernel (Mikkelsen 2010, eq. 2 and 4) or Perlin's additive rule. The `inward`
  * column marks rows whose bumped normal faces away from the surface normal. */
 #include "points.h"
-#include "common/csv.h"
-#include "common/npy.h"
-#include "table.h"
+#include "points_internal.h"
 #if BG_HAVE_TOOLS
 #include "bumpgrad/volume.h"
 #endif
@@ -26,14 +24,7 @@ typedef struct perturb_job {
     bgt_points_stats *stats;
 } perturb_job;
 
-static void perturb_chunk(void *ctx, size_t b, size_t e, int worker)
-{
-    (void)worker;
-    perturb_job *j = ctx;
-    float **c = j->c;
-    bgt_height_perturb(j->h, j->method, c[0] + b, c[1] + b, c[2] + b, c[3] + b, c[4] + b, c[5] + b,
-                       e - b, c[6] + b, c[7] + b, c[8] + b, c[9] + b);
-}
+
 
 /* dot(n', n) in double: n may be any finite length, and the sign is what counts. */
 static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
@@ -43,6 +34,16 @@ static int is_inward(float nx, float ny, float nz, float px, float py, float pz)
     return r2 == 0 || !(d > 0);
 }
 
+static void perturb_chunk(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    perturb_job *j = ctx;
+    float **c = j->c;
+    bgt_height_perturb(j->h, j->method, c[0] + b, c[1] + b, c[2] + b, c[3] + b, c[4] + b, c[5] + b,
+                       e - b, c[6] + b, c[7] + b, c[8] + b, c[9] + b);
+    for (size_t r = b; r < e; r++)
+        c[10][r] = (float)is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
+}
 static void perturb_bind(void *ctx, void *mem)
 {
     perturb_job *j = ctx;
@@ -50,7 +51,8 @@ static void perturb_bind(void *ctx, void *mem)
         j->c[k] = (float *)mem + (size_t)k * PERTURB_BLOCK;
 }
 
-static void perturb_write(void *ctx, FILE *fp, const bgt_csv *inp, bgt_npy_out *npy, size_t rows)
+/* The block's statistics: rows inward, rows inside a grid's active box. */
+static void perturb_block_done(void *ctx, size_t rows)
 {
     perturb_job *j = ctx;
     float **c = j->c;
@@ -60,25 +62,8 @@ static void perturb_write(void *ctx, FILE *fp, const bgt_csv *inp, bgt_npy_out *
         for (size_t r = 0; r < rows; r++)
             block_in_grid += c[0][r] >= box[0] && c[0][r] <= box[3] && c[1][r] >= box[1] &&
                              c[1][r] <= box[4] && c[2][r] >= box[2] && c[2][r] <= box[5];
-    for (size_t r = 0; r < rows && npy; r++) {
-        int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
-        block_inward += (size_t)inward;
-        c[10][r] = (float)inward;
-    }
-    if (npy)
-        bgt_npy_write(npy, (const float *const *)c, NULL, rows);
-    for (size_t r = 0; r < rows && !npy; r++) {
-        const char *x;
-        size_t xl;
-        bgt_csv_write_row_prefix(fp, inp, r, &x, &xl);
-        int inward = is_inward(c[3][r], c[4][r], c[5][r], c[7][r], c[8][r], c[9][r]);
-        block_inward += (size_t)inward;
-        fprintf(fp, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d", (double)c[0][r],
-                (double)c[1][r], (double)c[2][r], (double)c[3][r], (double)c[4][r],
-                (double)c[5][r], (double)c[6][r], (double)c[7][r], (double)c[8][r],
-                (double)c[9][r], inward);
-        bgt_csv_write_row_suffix(fp, inp, x, xl);
-    }
+    for (size_t r = 0; r < rows; r++)
+        block_inward += c[10][r] != 0.0f;
     if (j->stats) {
         j->stats->inward += block_inward;
         j->stats->in_grid += block_in_grid;
@@ -87,14 +72,18 @@ static void perturb_write(void *ctx, FILE *fp, const bgt_csv *inp, bgt_npy_out *
 
 bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 {
-    perturb_job job = {.h = o->height, .method = o->method, .stats = o->stats};
+    bgt_height h = *o->height;
+    bg_status rc = bgt_height_open(&h, e);
+    if (rc != BG_OK)
+        return rc;
+    perturb_job job = {.h = &h, .method = o->method, .stats = o->stats};
     /* A VDB height is zero (and flat) outside its active voxels: count the
      * points inside their world box, one voxel of margin (the stencil's reach),
      * so that a table that misses the grid entirely can be reported. */
 #if BG_HAVE_TOOLS
-    if (o->height->grid) {
+    if (h.grid) {
         bg_vdb_height_info info;
-        bg_vdb_height_get_info((const bg_vdb_height *)o->height->grid, &info);
+        bg_vdb_height_get_info((const bg_vdb_height *)h.grid, &info);
         for (int k = 0; k < 3; k++) {
             job.box[k] = info.world_min[k] - info.voxel_size[k];
             job.box[3 + k] = info.world_max[k] + info.voxel_size[k];
@@ -112,10 +101,12 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
     bgt_table_pass p = {
         .label = "perturb", .input = o->input, .output = o->output,
         .allow_nonfinite = o->allow_nonfinite, .names = perturb_header, .count = 6, .dbl = 0,
-        .npy_cols = 11, .csv_header = "x,y,z,nx,ny,nz,height,px,py,pz,inward",
+        .cols = 11, .flag_cols = 1, .csv_header = "x,y,z,nx,ny,nz,height,px,py,pz,inward",
         .block = PERTURB_BLOCK, .chunk = PERTURB_CHUNK, .threads = o->threads,
         .mem_bytes = 11 * PERTURB_BLOCK * sizeof(float), .bind = perturb_bind, .fcols = job.c,
-        .dcols = NULL, .chunk_fn = perturb_chunk, .write = perturb_write, .ctx = &job,
+        .dcols = NULL, .chunk_fn = perturb_chunk, .block_done = perturb_block_done, .ctx = &job,
         .progress = o->progress, .rows = o->stats ? &o->stats->rows : NULL};
-    return bgt_table_run(&p, e);
+    rc = bgt_table_run(&p, e);
+    bgt_height_close(&h);
+    return rc;
 }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* The point tables of `bumpgrad eval` and `perturb`: stream a CSV table of
- * points through the library in constant memory and write a CSV table of
- * results, through the safe file writer. */
+/* The face of the points tools, `bumpgrad eval` and `perturb`: stream a table
+ * of points (CSV or .npy) through the library in constant memory and write a
+ * table of results (CSV or .npy), through the safe file writer. */
 #ifndef BUMPGRAD_TOOLS_POINTS_H
 #define BUMPGRAD_TOOLS_POINTS_H
 
@@ -36,7 +36,8 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e);
 
 typedef struct bgt_perturb_opts {
     const char *input, *output;
-    const bgt_height *height; /* opened (bgt_height_open) */
+    const bgt_height *height; /* the height parameters, NOT opened: bgt_perturb_run
+                                 opens it (bgt_height_open) and closes it */
     bg_perturb_method method;
     int threads;
     int allow_nonfinite;

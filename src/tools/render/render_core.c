@@ -18,10 +18,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include "mesh/mikktspace.h"
-#include "render/render.h"
+#include "render/render_internal.h"
 #include "bumpgrad/framework.h"
 #include "vecmath.h"
 #include "common/parallel.h"
+#if BG_HAVE_TOOLS
+#include "bumpgrad/volume.h"
+#endif
 
 #define TILE 8 /* output pixels per tile side */
 
@@ -224,6 +227,8 @@ typedef struct run_ctx {
     atomic_int failed;
     atomic_size_t done;
     bgt_height analytic, central;
+    float grid_box[6];                  /* a grid height: its active box, one voxel of margin */
+    atomic_size_t grid_points, grid_in_box, grid_zero;
 } run_ctx;
 
 static int trace(const render_scene *s, const float d[3], float p[3], float n[3], float nf[3],
@@ -402,6 +407,24 @@ static void tile_rays(const render_scene *S, tile_buf *T, const tile_geom *G)
         }
 }
 
+/* A grid height is 0 and flat outside its active voxels: count the hits in
+ * its active box and those where it gave height 0, for the report. */
+static void count_grid(run_ctx *C, const tile_buf *T, size_t nb)
+{
+    size_t in_box = 0, zero = 0;
+    for (size_t b = 0; b < nb; b++) {
+        const float p[3] = {T->bx[b], T->by[b], T->bz[b]};
+        int in = 1;
+        for (int k = 0; k < 3; k++)
+            in &= p[k] >= C->grid_box[k] && p[k] <= C->grid_box[3 + k];
+        in_box += (size_t)in;
+        zero += T->bh[b] == 0.0f;
+    }
+    atomic_fetch_add(&C->grid_points, nb);
+    atomic_fetch_add(&C->grid_in_box, in_box);
+    atomic_fetch_add(&C->grid_zero, zero);
+}
+
 /* 2. Heights and the reference (analytic surfgrad, Listing 3) in one batch. */
 static void tile_solid(run_ctx *C, tile_buf *T, const tile_geom *G)
 {
@@ -412,6 +435,8 @@ static void tile_solid(run_ctx *C, tile_buf *T, const tile_geom *G)
                        T->bnz, nb, T->bh, T->box, T->boy, T->boz);
     for (size_t b = 0; b < nb; b++)
         T->h[T->bidx[b]] = T->bh[b];
+    if (C->analytic.grid && nb)
+        count_grid(C, T, nb);
     scatter_normals(T, nb, T->ref);
 }
 
@@ -849,6 +874,19 @@ bg_status render_run(render_job *job)
     C.central.h.gradient = BG_GRADIENT_CENTRAL;
     atomic_init(&C.failed, 0);
     atomic_init(&C.done, 0);
+    atomic_init(&C.grid_points, 0);
+    atomic_init(&C.grid_in_box, 0);
+    atomic_init(&C.grid_zero, 0);
+#if BG_HAVE_TOOLS
+    if (C.analytic.grid) {
+        bg_vdb_height_info info;
+        bg_vdb_height_get_info((const bg_vdb_height *)C.analytic.grid, &info);
+        for (int k = 0; k < 3; k++) {
+            C.grid_box[k] = (float)(info.world_min[k] - info.voxel_size[k]);
+            C.grid_box[3 + k] = (float)(info.world_max[k] + info.voxel_size[k]);
+        }
+    }
+#endif
     size_t ntiles = (size_t)C.tiles_x * C.tiles_y;
     bgt_progress_begin(job->progress, "render", ntiles);
     bgt_parallel_for(ntiles, 1, job->threads, tile_worker, &C);
@@ -857,6 +895,9 @@ bg_status render_run(render_job *job)
         render_job_free(job);
         return BG_ERR_OUT_OF_MEMORY;
     }
+    job->grid_points = atomic_load(&C.grid_points);
+    job->grid_in_box = atomic_load(&C.grid_in_box);
+    job->grid_zero = atomic_load(&C.grid_zero);
     return 0;
 }
 

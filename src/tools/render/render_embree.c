@@ -13,7 +13,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
-#include "render/render.h"
+#include "render/render_internal.h"
 
 #ifdef BG_HAVE_EMBREE
 #include <embree3/rtcore.h>

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* render_image (render.h): one `bumpgrad render` job from options to file.
+/* bgt_render_run (render.h): one `bumpgrad render` job from options to file.
  * The renderer fills float RGB buffers; only the final step writes a file,
  * through bg_image_write (temporary file + rename: a failure leaves any old
  * output untouched). Also the presets that reproduce Figures 1, 2, 3 and the
@@ -13,7 +13,10 @@
 #include <time.h>
 #include <unistd.h>
 #include "bumpgrad/image.h"
-#include "render/render.h"
+#if BG_HAVE_TOOLS
+#include "bumpgrad/volume.h"
+#endif
+#include "render/render_internal.h"
 #include "vecmath.h"
 
 void render_opts_default(render_opts *o)
@@ -456,6 +459,27 @@ static double now_seconds(void)
 }
 
 /* The parameters of the render, stamped under the panels (issue 15 item 6). */
+/* What a grid height did to the main render (render_result.grid*). */
+static void report_grid(const render_opts *o, const render_job *job, render_result *r)
+{
+#if BG_HAVE_TOOLS
+    if (!o->h.grid)
+        return;
+    bg_vdb_height_info info;
+    bg_vdb_height_get_info((const bg_vdb_height *)o->h.grid, &info);
+    r->grid = 1;
+    r->grid_points = job->grid_points;
+    r->grid_in_box = job->grid_in_box;
+    r->grid_zero = job->grid_zero;
+    for (int k = 0; k < 3; k++) {
+        r->grid_box[k] = info.world_min[k];
+        r->grid_box[3 + k] = info.world_max[k];
+    }
+#else
+    (void)o, (void)job, (void)r;
+#endif
+}
+
 static void make_stamp(const render_opts *o, const render_result *r, char *out, size_t len)
 {
     const bg_height *h = &o->h.h;
@@ -472,12 +496,18 @@ static void make_stamp(const render_opts *o, const render_result *r, char *out, 
             n += (size_t)snprintf(out + n, len - n, " grid=%d (%zu tri)", o->grid, r->triangles);
     }
     if (n < len)
-        n += (size_t)snprintf(out + n, len - n,
-                              " | %dx%d spp=%d | %s octaves=%d frequency=%g amplitude=%g | "
-                              "light=%g,%g,%g distance=%g zoom=%g | tracer=%s",
-                              o->width, o->height, o->ss * o->ss,
+        n += (size_t)snprintf(out + n, len - n, " | %dx%d spp=%d | ", o->width, o->height,
+                              o->ss * o->ss);
+    if (n < len && o->h.grid_path) {
+        const char *base = strrchr(o->h.grid_path, '/');
+        n += (size_t)snprintf(out + n, len - n, "height-grid=%s", base ? base + 1 : o->h.grid_path);
+    } else if (n < len) {
+        n += (size_t)snprintf(out + n, len - n, "%s octaves=%d frequency=%g amplitude=%g",
                               (unsigned)h->fractal.function < 4 ? fn[h->fractal.function] : "?",
-                              h->fractal.octaves, (double)h->frequency, (double)h->amplitude,
+                              h->fractal.octaves, (double)h->frequency, (double)h->amplitude);
+    }
+    if (n < len)
+        n += (size_t)snprintf(out + n, len - n, " | light=%g,%g,%g distance=%g zoom=%g | tracer=%s",
                               (double)o->light[0], (double)o->light[1], (double)o->light[2],
                               (double)o->distance, (double)o->zoom, r->tracer);
 }
@@ -533,7 +563,7 @@ static bg_status write_image(const char *path, const char *format, const bg_imag
     return BG_OK;
 }
 
-/* The options render_image refuses before any work, and what render_run and
+/* The options bgt_render_run refuses before any work, and what render_run and
  * the panel will allocate, checked against the one cap first: per method an
  * RGB and a heat image, and per sample an error and an inward flag; the panel
  * about (rows x methods) images. */
@@ -557,7 +587,7 @@ static bg_status check_render(const render_opts *o, bg_pixel_type *type, int *sr
     return bgt_check_alloc(o->nmethods * (per_method + panel), "this render", e);
 }
 
-/* What render_image holds while it runs (render_state_free frees it all). */
+/* What bgt_render_run holds while it runs (render_state_free frees it all). */
 typedef struct render_state {
     render_mesh mesh;
     render_textures tex;
@@ -722,15 +752,19 @@ static bg_status compose_output(const render_opts *o, const render_state *s, con
     return BG_OK;
 }
 
-bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
+bg_status bgt_render_run(const render_opts *o_in, render_result *r, bgt_err *e)
 {
     bg_pixel_type type = BG_PIXEL_U8;
     int srgb = 1;
     bg_status rc;
     memset(r, 0, sizeof *r);
     render_opts oo = *o_in, *o = &oo;
-    if ((rc = check_render(o, &type, &srgb, e)) != BG_OK)
+    if ((rc = bgt_height_open(&o->h, e)) != BG_OK)
         return rc;
+    if ((rc = check_render(o, &type, &srgb, e)) != BG_OK) {
+        bgt_height_close(&o->h);
+        return rc;
+    }
 
     render_state s;
     memset(&s, 0, sizeof s);
@@ -766,6 +800,7 @@ bg_status render_image(const render_opts *o_in, render_result *r, bgt_err *e)
         }
     }
     r->render_seconds = now_seconds() - tr;
+    report_grid(o, &job, r);
     render_stats st[RENDER_MAX_METHODS];
     if ((rc = collect_stats(o, &job, &job2, st, r, e)) != BG_OK)
         goto done;
@@ -783,5 +818,6 @@ done:
     render_job_free(&job);
     render_job_free(&job2);
     render_state_free(&s);
+    bgt_height_close(&o->h);
     return rc;
 }

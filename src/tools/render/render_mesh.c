@@ -10,7 +10,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include "render/render.h"
+#include "render/render_internal.h"
 
 /* Implicit fields: negative inside, positive outside, so grad F points out. */
 static double field_blob(const double p[3])

@@ -5,7 +5,7 @@
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
-#include "render/render.h"
+#include "render/render_internal.h"
 
 /* Each glyph: 7 rows of 5 columns, '#' set. */
 typedef struct glyph {

@@ -26,7 +26,7 @@
 #include "bumpgrad/mesh.h"
 #include "mesh/mesh_texpath.h"
 #include "mesh/mesh_tool.h"
-#include "render/render.h"
+#include "render/render_internal.h"
 #include "vecmath.h"
 
 int render_method_textured(render_method m)

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* bgt_accuracy_run (study_tool.h), the study of `bumpgrad accuracy`: speed
+/* bgt_accuracy_run (study.h), the study of `bumpgrad accuracy`: speed
  * against accuracy of every way to get the perturbed normal
  * n' = normalize(n - grad_S h) (Mikkelsen 2010, eq. 2 and 4), measured on the
  * same points with the real batch kernels, against the float64 analytic
@@ -12,7 +12,7 @@
 #include <string.h>
 #include "bumpgrad/framework.h"
 #include "common/safe_file.h"
-#include "study.h"
+#include "study_internal.h"
 
 typedef struct acc_ctx {
     size_t n;

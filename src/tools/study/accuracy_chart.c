@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "common/safe_file.h"
-#include "study.h"
+#include "study_internal.h"
 
 typedef struct pt {
     double t, e;

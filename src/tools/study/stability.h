@@ -1,15 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /* Internal interface of the stability study (bgt_stability_run): the output
- * it builds (stability.c) and its sweeps (stability_sweeps.c,
- * stability_listing1.c). Each sweep appends its section to the report, its
- * numbers to the JSON summary, writes its CSV and its chart. */
+ * helpers (stability_out.c) and the sweeps (stability_sweeps.c,
+ * stability_listing1.c), called by the run (stability.c). Each sweep appends
+ * its section to the report, its numbers to the JSON summary, writes its CSV
+ * and its chart. */
 #ifndef BUMPGRAD_STUDY_STABILITY_H
 #define BUMPGRAD_STUDY_STABILITY_H
 
 #include <stddef.h>
 #include <stdio.h>
 #include "common/safe_file.h"
-#include "study.h"
+#include "study_internal.h"
 
 typedef struct st_out {
     const char *dir;
@@ -21,7 +22,7 @@ typedef struct st_out {
     bgt_err *e; /* never NULL */
 } st_out;
 
-/* One number of summary.json. */
+/* One number of summary.json; NaN and infinities are written as null. */
 void st_json_num(st_out *o, const char *key, double v);
 /* A section of the study: opens DIR/name (temp + rename on commit), writes the
  * CSV header line, then the section's report text (printf format md_fmt) to

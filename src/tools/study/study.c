@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 #define _POSIX_C_SOURCE 200809L
-#include "study.h"
+#include "study_internal.h"
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* Private pieces of the bench engine shared by rows.c, timer.c and bench.c. */
-#ifndef BUMPGRAD_TOOLS_BENCH_IMPL_H
-#define BUMPGRAD_TOOLS_BENCH_IMPL_H
+/* Inside the bench engine (the face is bench.h): the pieces rows.c, timer.c
+ * and bench.c share. */
+#ifndef BUMPGRAD_TOOLS_BENCH_INTERNAL_H
+#define BUMPGRAD_TOOLS_BENCH_INTERNAL_H
 
 #include <stddef.h>
 #include "bench/bench.h"
