@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* The tools as Python calls (tools builds only; included by _bumpgrad.c):
- * bgt_mesh_run through its face (mesh/mesh_tool.h) and bg_image_read. The
+ * bgt_mesh_run through its face (mesh/mesh.h) and bg_image_read. The
  * Python layer (__init__.py) checks the arguments and turns results into
  * arrays. Tool errors raise bumpgrad.Error(status, text, message). */
 #include <stdatomic.h>
@@ -10,7 +10,7 @@
 #include "common/tool.h"
 #include "height_source.h"
 #include "bake/bake.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh.h"
 
 static PyObject *raise_tool(bg_status s, const bgt_err *e)
 {

@@ -263,7 +263,8 @@ static const cli_opt render_opts_table[] = {
      .flags = CLI_FILE},
     {.name = "normal-map", .kind = CLI_KIND_STRING, .offset = O(normal_map), .metavar = "IMG",
      .help = "tangent-space normal map (OpenGL +y); default: the material's, else baked from "
-             "the height texture",
+             "the height texture. IMG with <UDIM> (here and in --height-map, --albedo): the "
+             "tile set `bumpgrad mesh` writes (n.1001.png, n.1002.png, ...)",
      .flags = CLI_FILE},
     {.name = "albedo", .kind = CLI_KIND_STRING, .offset = O(albedo_map), .metavar = "IMG",
      .help = "albedo texture; default: the material's map_Kd", .flags = CLI_FILE},

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "common/check.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh.h"
 
 typedef struct seen {
     int begins, ends, bad_order;

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* The tools library's mesh, volume and heightmap jobs called directly (no CLI):
- * bgt_heightmap_run, bgt_volume_run, bgt_mesh_check, bgt_mesh_run.
+ * bgt_heightmap_run, bgt_volume_run, bgt_mesh_run.
  * Usage: test_bake {heightmap|volume|mesh} SCRATCH_DIR
  * Expected values come from the formulas recomputed here in double (the seed's
  * normal map, the framework's derivative ratios, the band test over the whole
@@ -14,7 +14,7 @@
 #include "bake/heightmap.h"
 #include "bake/volume.h"
 #include "bumpgrad/image.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh.h"
 #include "scratch.h"
 
 static int is_bad_input(bg_status s)
@@ -260,6 +260,7 @@ static void test_mesh(void)
     bgt_mesh_opts o = {.input = path_in("q.obj"), .output = path_in("q.ply"), .height = &h,
                        .method = BG_PERTURB_SURFGRAD, .compare = 1, .join = BG_MESH_JOIN_AUTO,
                        .threads = 2, .bake_depth = -1,
+                       .units = MESH_UNITS_FILE, /* the recomputation below is in file units */
                        .bake = {.width = 16, .height = 8, .space = MESH_BAKE_TANGENT, .padding = 2}};
     bgt_mesh_result r;
     bgt_err e;
@@ -302,7 +303,7 @@ static void test_mesh(void)
     /* Path checks and bad input. */
     bgt_mesh_opts bad = o;
     bad.bake_path = bad.output;
-    CHECK(bgt_mesh_check(&bad, &e) == BG_ERR_INVALID_ARGUMENT && strstr(e.msg, "same file"),
+    CHECK(bgt_mesh_run(&bad, &r, &e) == BG_ERR_INVALID_ARGUMENT && strstr(e.msg, "same file"),
           "same file: %s", e.msg);
     bad = o;
     bad.bake_path = NULL;

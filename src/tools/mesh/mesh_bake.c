@@ -21,7 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "common/parallel.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 #include "mesh/mesh_uv.h"
 
 typedef struct bake_ctx {
@@ -32,6 +32,11 @@ typedef struct bake_ctx {
     const bgt_height *h;
     bg_perturb_method method;
     int width;
+    int height;
+    double u0, v0;      /* the tile's origin in UV */
+    int samples;        /* per axis, >= 1 */
+    const float *foot;  /* per triangle: one texel's object-space footprint, or NULL */
+    const float *foot_all; /* the same, always (for the summary's texel size) */
     const int32_t *tri; /* triangle per texel, -1 = empty */
     const float *b1, *b2;
     float *vec; /* 3 floats per texel: the unit vector m to encode */
@@ -49,16 +54,24 @@ static void flat_vector(const bake_ctx *c, float *out)
     out[2] = c->ctan ? 1.0f : 0.0f;
 }
 
+/* Barycentric weights (w1, w2) of the point (cx, cy) of the texel grid in
+ * triangle t's UV image (the formula of raster_triangle; outside the
+ * triangle they extrapolate its plane). */
+static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, float *w1, float *w2);
+
 static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
 {
     const bg_mesh *m = c->m;
     size_t W = (size_t)c->width;
+    const int N = c->samples;
+    const size_t S = (size_t)N * (size_t)N;
     size_t cnt = 0;
     for (size_t k = begin * W; k < end * W; k++)
         cnt += c->tri[k] >= 0;
     if (cnt == 0)
         return;
-    float *buf = malloc(cnt * 9 * sizeof *buf);
+    size_t ns = cnt * S;
+    float *buf = malloc(ns * 10 * sizeof *buf);
     size_t *idx = malloc(cnt * sizeof *idx);
     if (!buf || !idx) {
         free(buf);
@@ -66,32 +79,56 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
         atomic_store(&c->oom, 1);
         return;
     }
-    float *px = buf, *py = buf + cnt, *pz = buf + 2 * cnt;
-    float *qx = buf + 3 * cnt, *qy = buf + 4 * cnt, *qz = buf + 5 * cnt;
-    float *gx = buf + 6 * cnt, *gy = buf + 7 * cnt, *gz = buf + 8 * cnt;
-    size_t j = 0;
+    float *px = buf, *py = buf + ns, *pz = buf + 2 * ns;
+    float *qx = buf + 3 * ns, *qy = buf + 4 * ns, *qz = buf + 5 * ns;
+    float *gx = buf + 6 * ns, *gy = buf + 7 * ns, *gz = buf + 8 * ns, *fp = buf + 9 * ns;
+    size_t j = 0, s = 0;
     for (size_t k = begin * W; k < end * W; k++) {
         int32_t t = c->tri[k];
         if (t < 0)
             continue;
         const uint32_t *ix = m->indices + 3 * (size_t)t;
-        float w1 = c->b1[k], w2 = c->b2[k], w0 = 1.0f - w1 - w2;
-        px[j] = w0 * m->px[ix[0]] + w1 * m->px[ix[1]] + w2 * m->px[ix[2]];
-        py[j] = w0 * m->py[ix[0]] + w1 * m->py[ix[1]] + w2 * m->py[ix[2]];
-        pz[j] = w0 * m->pz[ix[0]] + w1 * m->pz[ix[1]] + w2 * m->pz[ix[2]];
-        qx[j] = w0 * c->nx[ix[0]] + w1 * c->nx[ix[1]] + w2 * c->nx[ix[2]];
-        qy[j] = w0 * c->ny[ix[0]] + w1 * c->ny[ix[1]] + w2 * c->ny[ix[2]];
-        qz[j] = w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]];
+        for (size_t q = 0; q < S; q++, s++) {
+            float w1 = c->b1[k], w2 = c->b2[k];
+            if (N > 1) /* stratified: the centres of an N x N grid in the texel */
+                sample_weights(c, (size_t)t, (double)(k % W) + ((double)(q % (size_t)N) + 0.5) / N,
+                               (double)(k / W) + ((double)(q / (size_t)N) + 0.5) / N, &w1, &w2);
+            float w0 = 1.0f - w1 - w2;
+            px[s] = w0 * m->px[ix[0]] + w1 * m->px[ix[1]] + w2 * m->px[ix[2]];
+            py[s] = w0 * m->py[ix[0]] + w1 * m->py[ix[1]] + w2 * m->py[ix[2]];
+            pz[s] = w0 * m->pz[ix[0]] + w1 * m->pz[ix[1]] + w2 * m->pz[ix[2]];
+            qx[s] = w0 * c->nx[ix[0]] + w1 * c->nx[ix[1]] + w2 * c->nx[ix[2]];
+            qy[s] = w0 * c->ny[ix[0]] + w1 * c->ny[ix[1]] + w2 * c->ny[ix[2]];
+            qz[s] = w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]];
+            fp[s] = c->foot ? c->foot[t] / (float)N : 0.0f;
+        }
         idx[j++] = k;
     }
-    bgt_height_gradient(c->h, px, py, pz, cnt, NULL, gx, gy, gz);
-    /* bg_perturb normalizes the interpolated normal itself. Outputs alias the
-     * gradient inputs exactly, which the batch call allows. */
-    bg_perturb_batch(c->method, qx, qy, qz, gx, gy, gz, cnt, gx, gy, gz);
+    if (c->foot && !c->h->grid) {
+        /* band-limited to each sample's footprint (the render's rule) */
+        bg_perturb_height_footprint_batch(&c->h->h, c->method, fp, px, py, pz, qx, qy, qz, ns,
+                                          NULL, gx, gy, gz);
+    } else {
+        bgt_height_gradient(c->h, px, py, pz, ns, NULL, gx, gy, gz);
+        /* bg_perturb normalizes the interpolated normal itself. Outputs alias the
+         * gradient inputs exactly, which the batch call allows. */
+        bg_perturb_batch(c->method, qx, qy, qz, gx, gy, gz, ns, gx, gy, gz);
+    }
     for (j = 0; j < cnt; j++) {
         size_t k = idx[j];
         float *out = c->vec + 3 * k;
-        double n1x = gx[j], n1y = gy[j], n1z = gz[j];
+        double n1x = 0.0, n1y = 0.0, n1z = 0.0;
+        if (S == 1) {
+            n1x = gx[j], n1y = gy[j], n1z = gz[j];
+        } else { /* the mean of the samples' unit normals, normalized */
+            for (size_t q = j * S; q < (j + 1) * S; q++)
+                n1x += gx[q], n1y += gy[q], n1z += gz[q];
+            double l = sqrt(n1x * n1x + n1y * n1y + n1z * n1z);
+            if (l > 0.0 && isfinite(l))
+                n1x /= l, n1y /= l, n1z /= l;
+            else
+                n1x = n1y = n1z = 0.0;
+        }
         if (n1x == 0.0 && n1y == 0.0 && n1z == 0.0) {
             flat_vector(c, out); /* the sentinel: no normal to perturb here */
             continue;
@@ -102,8 +139,8 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
         }
         size_t t = (size_t)c->tri[k];
         const uint32_t *ix = m->indices + 3 * t;
-        /* the weights the renderer's rasterizer would use: the float ones of
-         * the position and normal interpolation above */
+        /* the weights the renderer's rasterizer would use at the texel
+         * centre: the float ones of the position and normal interpolation */
         float w1 = c->b1[k], w2 = c->b2[k];
         double w[3] = {1.0f - w1 - w2, w1, w2};
         float nv[3][3];
@@ -156,6 +193,45 @@ static int uv_image(const bg_mesh *m, size_t t, double u0, double v0, int W, int
     return *area != 0.0 && isfinite(*area);
 }
 
+static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, float *w1, float *w2)
+{
+    double X[3], Y[3], area;
+    if (!uv_image(c->m, t, c->u0, c->v0, c->width, c->height, X, Y, &area)) {
+        *w1 = *w2 = 1.0f / 3.0f;
+        return;
+    }
+    double inv = 1.0 / area;
+    double l0 = ((X[2] - X[1]) * (cy - Y[1]) - (Y[2] - Y[1]) * (cx - X[1])) * inv;
+    double l1 = ((X[0] - X[2]) * (cy - Y[2]) - (Y[0] - Y[2]) * (cx - X[2])) * inv;
+    *w1 = (float)l1;
+    *w2 = (float)(1.0 - l0 - l1);
+}
+
+/* One texel's footprint on the surface for every triangle, in object units:
+ * with the UV Jacobian J = [dP/du dP/dv] of the triangle (from its edges),
+ * max(|dP/du| / W, |dP/dv| / H), the isotropic rule the render uses for a
+ * pixel (max(|dp/dx|, |dp/dy|)). 0 where the UV map is degenerate. */
+static void texel_footprints(const bg_mesh *m, int W, int H, float *foot)
+{
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        const uint32_t *ix = m->indices + 3 * t;
+        double e1[3] = {(double)m->px[ix[1]] - m->px[ix[0]], (double)m->py[ix[1]] - m->py[ix[0]],
+                        (double)m->pz[ix[1]] - m->pz[ix[0]]};
+        double e2[3] = {(double)m->px[ix[2]] - m->px[ix[0]], (double)m->py[ix[2]] - m->py[ix[0]],
+                        (double)m->pz[ix[2]] - m->pz[ix[0]]};
+        double du1 = (double)m->u[ix[1]] - m->u[ix[0]], du2 = (double)m->u[ix[2]] - m->u[ix[0]];
+        double dv1 = (double)m->v[ix[1]] - m->v[ix[0]], dv2 = (double)m->v[ix[2]] - m->v[ix[0]];
+        double det = du1 * dv2 - du2 * dv1;
+        double su = 0.0, sv = 0.0;
+        for (int a = 0; a < 3; a++) {
+            double pu = (e1[a] * dv2 - e2[a] * dv1) / det, pv = (e2[a] * du1 - e1[a] * du2) / det;
+            su += pu * pu, sv += pv * pv;
+        }
+        double f = fmax(sqrt(su) / W, sqrt(sv) / H);
+        foot[t] = det != 0.0 && isfinite(f) ? (float)f : 0.0f;
+    }
+}
+
 /* Fill texel centres inside triangle t with its id and barycentric weights.
  * Texel (x, y) of tile (u0, v0) has its centre at u = u0 + (x + 0.5) / W,
  * v = v0 + 1 - (y + 0.5) / H: row 0 is the top of the image and v grows upward
@@ -205,10 +281,15 @@ static int raster_triangle(const bg_mesh *m, size_t t, double u0, double v0, int
 
 /* Edge padding: each pass gives every empty texel that touches a filled one
  * (8-neighbourhood, filled before this pass) the normalized mean of those
- * neighbours, so bilinear filtering and mip-mapping near UV seams read
- * plausible normals instead of the background. level[k]: 0 empty, 1 baked,
- * p + 1 filled by pass p. */
-static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tangent)
+ * neighbours that belong to ONE UV island (the island with the most of them;
+ * a tie goes to the lower island number), and that island. So bilinear
+ * filtering and mip-mapping near UV seams read the island's own normals
+ * instead of the background, and a gutter between two islands is split
+ * between them instead of mixing them; a texel that a triangle covers is
+ * never written. level[k]: 0 empty, 1 baked, p + 1 filled by pass p;
+ * isl[k]: the island of a filled texel. */
+static size_t pad(float *vec, uint16_t *level, int32_t *isl, int W, int H, int passes,
+                  int tangent)
 {
     size_t filled = 0;
     for (int p = 1; p <= passes; p++) {
@@ -218,7 +299,7 @@ static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tan
                 size_t k = (size_t)y * (size_t)W + (size_t)x;
                 if (level[k])
                     continue;
-                double s[3] = {0, 0, 0};
+                size_t nb[8];
                 int n = 0;
                 for (int dy = -1; dy <= 1; dy++) {
                     for (int dx = -1; dx <= 1; dx++) {
@@ -228,12 +309,27 @@ static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tan
                         size_t q = (size_t)yy * (size_t)W + (size_t)xx;
                         if (level[q] == 0 || level[q] > p)
                             continue;
-                        s[0] += vec[3 * q], s[1] += vec[3 * q + 1], s[2] += vec[3 * q + 2];
-                        n++;
+                        nb[n++] = q;
                     }
                 }
                 if (!n)
                     continue;
+                int32_t best = isl[nb[0]];
+                int best_count = 0;
+                for (int i = 0; i < n; i++) {
+                    int cnt = 0;
+                    for (int j2 = 0; j2 < n; j2++)
+                        cnt += isl[nb[j2]] == isl[nb[i]];
+                    if (cnt > best_count || (cnt == best_count && isl[nb[i]] < best))
+                        best = isl[nb[i]], best_count = cnt;
+                }
+                double s[3] = {0, 0, 0};
+                for (int i = 0; i < n; i++) {
+                    if (isl[nb[i]] != best)
+                        continue;
+                    const float *v = vec + 3 * nb[i];
+                    s[0] += v[0], s[1] += v[1], s[2] += v[2];
+                }
                 double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
                 float *o = vec + 3 * k;
                 if (l > 0.0) {
@@ -242,6 +338,7 @@ static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tan
                     o[0] = 0.0f, o[1] = 0.0f, o[2] = tangent ? 1.0f : 0.0f;
                 }
                 level[k] = (uint16_t)(p + 1);
+                isl[k] = best;
                 this_pass++;
             }
         }
@@ -254,8 +351,8 @@ static size_t pad(float *vec, uint16_t *level, int W, int H, int passes, int tan
 
 double mesh_bake_tile_bytes(int width, int height)
 {
-    /* tri, b1, b2 (4 + 4 + 4), vec (12), level (2), multi (1), image (12) */
-    return (double)width * (double)height * 39.0;
+    /* tri, b1, b2 (4 + 4 + 4), vec (12), level (2), multi (1), image (12), isl (4) */
+    return (double)width * (double)height * 43.0;
 }
 
 /* The tiles (UDIM numbers, ascending) that the UV bounding box of a bakeable
@@ -298,15 +395,55 @@ static size_t udim_tiles(const bg_mesh *m, int *tiles, size_t *wanted)
     return n > MESH_UDIM_MAX_TILES ? (size_t)-1 : n;
 }
 
+/* Without <UDIM>: the triangles whose UV bounding box misses the unit
+ * square (they are left out of the map), and the other tiles the UVs touch. */
+static bg_status outside_unit_square(const bg_mesh *m, mesh_bake_stats *stats, bgt_err *e)
+{
+    int *all = malloc(MESH_UDIM_MAX_TILES * sizeof *all);
+    if (!all)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UDIM tiles");
+    size_t wanted = 0;
+    size_t n = udim_tiles(m, all, &wanted);
+    if (n == (size_t)-2) {
+        free(all);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UDIM tiles");
+    }
+    size_t listed = wanted < MESH_UDIM_MAX_TILES ? wanted : MESH_UDIM_MAX_TILES;
+    for (size_t i = 0; i < listed; i++) {
+        if (all[i] == 1001)
+            continue;
+        if (stats->outside_tile_count < 8)
+            stats->outside_tiles[stats->outside_tile_count] = all[i];
+        stats->outside_tile_count++;
+    }
+    if (wanted > MESH_UDIM_MAX_TILES) /* the ones past the list are not 1001 */
+        stats->outside_tile_count += wanted - MESH_UDIM_MAX_TILES;
+    free(all);
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        double X[3], Y[3], area;
+        if (!mesh_triangle_usable(m, t) || !uv_image(m, t, 0.0, 0.0, 1, 1, X, Y, &area))
+            continue;
+        const uint32_t *ix = m->indices + 3 * t;
+        double u_lo = m->u[ix[0]], u_hi = u_lo, v_lo = m->v[ix[0]], v_hi = v_lo;
+        for (int k = 1; k < 3; k++) {
+            u_lo = fmin(u_lo, m->u[ix[k]]), u_hi = fmax(u_hi, m->u[ix[k]]);
+            v_lo = fmin(v_lo, m->v[ix[k]]), v_hi = fmax(v_hi, m->v[ix[k]]);
+        }
+        stats->outside_triangles += u_hi <= 0.0 || u_lo >= 1.0 || v_hi <= 0.0 || v_lo >= 1.0;
+    }
+    return BG_OK;
+}
+
 /* The tiles to bake: 1001 alone, or with o->udim those the UVs touch. */
 static bg_status choose_tiles(const bg_mesh *m, const mesh_bake_opts *o,
-                              int tiles[MESH_UDIM_MAX_TILES], size_t *ntiles, bgt_err *e)
+                              int tiles[MESH_UDIM_MAX_TILES], size_t *ntiles,
+                              mesh_bake_stats *stats, bgt_err *e)
 {
     size_t wanted = 0;
     *ntiles = 1;
     tiles[0] = 1001;
     if (!o->udim)
-        return BG_OK;
+        return outside_unit_square(m, stats, e);
     *ntiles = udim_tiles(m, tiles, &wanted);
     if (*ntiles == (size_t)-2)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UDIM tiles");
@@ -326,9 +463,9 @@ static bg_status choose_tiles(const bg_mesh *m, const mesh_bake_opts *o,
 /* The tangent frame of every corner (4 floats: xyz and the bitangent sign)
  * for a tangent-space bake: the file's per-vertex frames, as a renderer
  * given them uses them, or mikkTSpace's. *ctan stays NULL in object space. */
-static bg_status corner_tangents(const bg_mesh *m, const float *nx, const float *ny,
-                                 const float *nz, const mesh_bake_opts *o, float **ctan,
-                                 mesh_bake_stats *stats, bgt_err *e)
+bg_status mesh_bake_corner_tangents(const bg_mesh *m, const float *nx, const float *ny,
+                                    const float *nz, const mesh_bake_opts *o, float **ctan,
+                                    mesh_bake_stats *stats, bgt_err *e)
 {
     size_t C = 3 * m->triangle_count;
     *ctan = NULL;
@@ -361,6 +498,7 @@ typedef struct bake_bufs {
     int32_t *tri;
     float *b1, *b2, *vec;
     uint16_t *level;
+    int32_t *isl; /* the UV island of a baked or padded texel */
     uint8_t *multi, *overlapped; /* overlapped: per island, over all tiles */
     bg_image img;
 } bake_bufs;
@@ -372,9 +510,10 @@ static int bufs_alloc(bake_bufs *b, int W, int H, size_t islands)
     b->b1 = malloc(npix * sizeof *b->b1), b->b2 = malloc(npix * sizeof *b->b2);
     b->vec = malloc(npix * 3 * sizeof *b->vec);
     b->level = malloc(npix * sizeof *b->level);
+    b->isl = malloc(npix * sizeof *b->isl);
     b->overlapped = calloc(islands ? islands : 1, 1);
     b->multi = malloc(npix);
-    return b->tri && b->b1 && b->b2 && b->vec && b->level && b->overlapped && b->multi &&
+    return b->tri && b->b1 && b->b2 && b->vec && b->level && b->isl && b->overlapped && b->multi &&
            bg_image_alloc(&b->img, W, H, 3) == BG_OK;
 }
 
@@ -386,6 +525,7 @@ static void bufs_free(bake_bufs *b)
     free(b->b2);
     free(b->vec);
     free(b->level);
+    free(b->isl);
     free(b->multi);
     free(b->overlapped);
 }
@@ -418,6 +558,7 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
     int W = o->width, H = o->height;
     size_t npix = (size_t)W * (size_t)H;
     double u0 = (double)((tile - 1001) % 10), v0 = (double)((tile - 1001) / 10);
+    c->u0 = u0, c->v0 = v0;
     for (size_t k = 0; k < npix; k++)
         b->tri[k] = -1;
     memset(b->vec, 0, npix * 3 * sizeof *b->vec);
@@ -434,6 +575,15 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
         stats->skipped = skipped;
     for (size_t k = 0; k < npix; k++)
         covered += b->tri[k] >= 0;
+    if (!o->udim && covered == 0)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "nothing to bake: no usable triangle covers a texel centre of the %dx%d "
+                        "map in the unit square of UV space (%zu of %zu triangles unusable or "
+                        "with zero/non-finite UV area, %zu wholly outside it%s)",
+                        W, H, skipped, m->triangle_count, stats->outside_triangles,
+                        stats->outside_tile_count ? "; name the map with <UDIM> for the other "
+                                                    "tiles"
+                                                  : "");
     *empty = o->udim && covered == 0;
     if (*empty) {
         atomic_fetch_add(&c->done, npix);
@@ -441,15 +591,22 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
     }
     for (size_t k = 0; k < npix; k++)
         stats->overlap_texels += b->multi[k] & 1;
+    if (c->foot_all)
+        for (size_t k = 0; k < npix; k++)
+            if (b->tri[k] >= 0)
+                stats->texel_size += c->foot_all[b->tri[k]];
 
-    size_t rows = (size_t)(16384 / W) + 1;
+    size_t rows = (size_t)(16384 / ((size_t)W * (size_t)c->samples * (size_t)c->samples)) + 1;
     bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, c);
     if (atomic_load(&c->oom))
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
-    for (size_t k = 0; k < npix; k++)
+    for (size_t k = 0; k < npix; k++) {
         b->level[k] = b->tri[k] >= 0;
+        b->isl[k] = b->tri[k] >= 0 ? (int32_t)island[b->tri[k]] : -1;
+    }
     stats->covered += covered;
-    stats->padded += pad(b->vec, b->level, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+    stats->padded +=
+        pad(b->vec, b->level, b->isl, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
     encode_tile(b, npix, o->space == MESH_BAKE_TANGENT, b->img.pixels);
     return BG_OK;
 }
@@ -464,12 +621,15 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     if (m->triangle_count > (size_t)INT32_MAX)
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "too many triangles to bake (%zu)",
                         m->triangle_count);
+    if (o->samples < 0 || o->samples > MESH_MAX_SAMPLES)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "samples %d: expected 1..%d per axis",
+                        o->samples, MESH_MAX_SAMPLES);
     bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H), "the bake buffers", e);
     if (rc != BG_OK)
         return rc;
     int tiles[MESH_UDIM_MAX_TILES];
     size_t ntiles;
-    if ((rc = choose_tiles(m, o, tiles, &ntiles, e)) != BG_OK)
+    if ((rc = choose_tiles(m, o, tiles, &ntiles, stats, e)) != BG_OK)
         return rc;
 
     float *ctan = NULL;
@@ -481,11 +641,18 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
         free(island);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the UV islands");
     }
-    if ((rc = corner_tangents(m, nx, ny, nz, o, &ctan, stats, e)) != BG_OK) {
+    if ((rc = mesh_bake_corner_tangents(m, nx, ny, nz, o, &ctan, stats, e)) != BG_OK) {
         free(island);
         return rc;
     }
 
+    float *foot = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *foot);
+    if (!foot) {
+        free(ctan);
+        free(island);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the texel footprints");
+    }
+    texel_footprints(m, W, H, foot);
     bgt_progress_begin(o->progress, "bake", ntiles * npix);
     bake_bufs b = {0};
     if (!bufs_alloc(&b, W, H, stats->islands)) {
@@ -495,7 +662,10 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     bake_ctx c = {.m = m, .nx = nx, .ny = ny, .nz = nz,
                   .ctan = ctan, .green_down = o->green_down,
                   .h = h, .method = o->method, .width = W, .tri = b.tri, .b1 = b.b1, .b2 = b.b2,
-                  .vec = b.vec, .progress = o->progress};
+                  .vec = b.vec, .progress = o->progress, .height = H,
+                  .samples = o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES,
+                  .foot = o->filter == MESH_FILTER_FOOTPRINT && !h->grid ? foot : NULL,
+                  .foot_all = foot};
     atomic_init(&c.oom, 0);
     atomic_init(&c.done, 0);
     for (size_t ti = 0; ti < ntiles; ti++) {
@@ -511,9 +681,18 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     }
     for (size_t i = 0; i < stats->islands; i++)
         stats->overlap_islands += b.overlapped[i];
+    if (stats->tiles == 0) {
+        rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                      "nothing to bake: no usable triangle covers a texel centre of a %dx%d "
+                      "tile",
+                      W, H);
+        goto done;
+    }
+    stats->texel_size = stats->covered ? stats->texel_size / (double)stats->covered : 0.0;
 done:
     bgt_progress_end(o->progress);
     bufs_free(&b);
+    free(foot);
     free(ctan);
     free(island);
     return rc;

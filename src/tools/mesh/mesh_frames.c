@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 #include "vecmath.h"
 
 static bg_dvec3 vertex_pos(const bg_mesh *m, uint32_t i)
@@ -99,4 +99,29 @@ double mesh_uv_signed_area(const bg_mesh *m, size_t t)
     double du1 = (double)m->u[ix[1]] - m->u[ix[0]], dv1 = (double)m->v[ix[1]] - m->v[ix[0]];
     double du2 = (double)m->u[ix[2]] - m->u[ix[0]], dv2 = (double)m->v[ix[2]] - m->v[ix[0]];
     return du1 * dv2 - du2 * dv1;
+}
+
+/* The sphere around the finite vertices: its centre c (of their bounding
+ * box) and radius, 0 or NaN when there is no finite extent. */
+double mesh_bounding_sphere(const bg_mesh *bm, double c[3])
+{
+    const size_t nv = bm->vertex_count;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < nv; i++) {
+        double p[3] = {bm->px[i], bm->py[i], bm->pz[i]};
+        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
+            continue;
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
+    }
+    double rad = 0;
+    for (int a = 0; a < 3; a++)
+        c[a] = 0.5 * (lo[a] + hi[a]);
+    for (size_t i = 0; i < nv; i++) {
+        double d[3] = {bm->px[i] - c[0], bm->py[i] - c[1], bm->pz[i] - c[2]};
+        double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (isfinite(r) && r > rad)
+            rad = r;
+    }
+    return rad;
 }

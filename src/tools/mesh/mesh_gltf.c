@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* glTF 2.0 writer of `bumpgrad mesh` (.gltf with the buffer embedded as a
- * base64 data URI, or binary .glb): one mesh, one triangle primitive with
- * POSITION, NORMAL, TANGENT (VEC4: xyz and the bitangent sign w, the
- * mikkTSpace frame) and TEXCOORD_0, and uint32 indices. Our own writer:
+ * base64 data URI, or binary .glb): one mesh, one triangle primitive per
+ * material with POSITION, NORMAL, TANGENT (VEC4: xyz and the bitangent sign
+ * w, the mikkTSpace frame) and TEXCOORD_0 (shared by the primitives), uint32
+ * indices, and the materials with their base colour and normal textures
+ * (embedded as bufferViews, or referenced by a relative URI). Our own writer:
  * assimp 5.2's glTF exporter writes TANGENT as VEC3 without the sign, which
  * the glTF 2.0 specification (3.7.2.1, "XYZW vertex tangents where the XYZ
  * portion is normalized, and the W component is a sign value (-1 or +1)")
@@ -28,14 +30,15 @@
 #include "mesh/mesh_gltf.h"
 #include "mesh/mesh_sort.h"
 
-/* k: vertex, the corner tangent's 4 float bit patterns, corner */
+/* k: vertex, the corner tangent's 4 float bit patterns, the corner UV's 2
+ * (with corner_uv), corner */
 typedef struct ckey {
-    uint32_t k[6];
+    uint32_t k[8];
 } ckey;
 
 static int cmp_ckey(const void *a, const void *b)
 {
-    return mesh_keys_cmp(((const ckey *)a)->k, ((const ckey *)b)->k, 6);
+    return mesh_keys_cmp(((const ckey *)a)->k, ((const ckey *)b)->k, 8);
 }
 
 static uint32_t fbits(float f)
@@ -130,43 +133,89 @@ static size_t split_vertices(const mesh_gltf_in *d, size_t C, ckey *keys, uint32
     int has_tan = d->corner_tangents != NULL;
     for (size_t c = 0; c < C; c++) {
         keys[c].k[0] = d->indices[c];
-        keys[c].k[5] = (uint32_t)c;
+        keys[c].k[5] = d->corner_uv ? fbits(d->corner_uv[2 * c]) : 0u;
+        keys[c].k[6] = d->corner_uv ? fbits(d->corner_uv[2 * c + 1]) : 0u;
+        keys[c].k[7] = (uint32_t)c;
         for (int j = 0; j < 4; j++)
             keys[c].k[1 + j] = has_tan ? fbits(d->corner_tangents[4 * c + (size_t)j]) : 0u;
     }
     qsort(keys, C, sizeof *keys, cmp_ckey);
     size_t NV = 0;
     for (size_t i = 0; i < C; i++) {
-        if (i == 0 || mesh_keys_cmp(keys[i].k, keys[i - 1].k, 5) != 0)
-            src[NV++] = keys[i].k[5];
-        newidx[keys[i].k[5]] = (uint32_t)(NV - 1);
+        if (i == 0 || mesh_keys_cmp(keys[i].k, keys[i - 1].k, 7) != 0)
+            src[NV++] = keys[i].k[7];
+        newidx[keys[i].k[7]] = (uint32_t)(NV - 1);
     }
     return NV;
 }
 
 /* The binary buffer's layout: positions, normals, tangents, uvs, indices
- * (all 4-byte aligned), and the bounds of the finite positions. */
+ * (in the input's order), then the embedded images (all 4-byte aligned), and
+ * the bounds of the finite positions. */
 typedef struct gltf_buf {
     size_t nv, corners;
     int has_uv, has_tan;
     size_t off_p, off_n, off_t, off_uv, off_i, len;
     double mn[3], mx[3];
+    size_t ngroups;          /* primitives */
+    size_t *group_first;     /* per primitive its first triangle, and T at the end */
+    uint32_t *group_mat;     /* per primitive its material */
+    size_t *off_img;         /* per image: its offset (embedded ones) */
 } gltf_buf;
 
-static gltf_buf buf_layout(const mesh_gltf_in *d, size_t NV, size_t C)
+static size_t align4(size_t n) { return (n + 3) & ~(size_t)3; }
+
+static int buf_layout(const mesh_gltf_in *d, size_t NV, size_t C, gltf_buf *b)
 {
-    gltf_buf b = {.nv = NV, .corners = C, .has_uv = d->u && d->v, .has_tan = d->corner_tangents != NULL};
-    b.off_p = 0, b.off_n = b.off_p + 12 * NV, b.off_t = b.off_n + 12 * NV;
-    b.off_uv = b.off_t + (b.has_tan ? 16 * NV : 0), b.off_i = b.off_uv + (b.has_uv ? 8 * NV : 0);
-    b.len = b.off_i + 4 * C;
+    memset(b, 0, sizeof *b);
+    b->nv = NV, b->corners = C, b->has_uv = d->u && d->v, b->has_tan = d->corner_tangents != NULL;
+    b->off_p = 0, b->off_n = b->off_p + 12 * NV, b->off_t = b->off_n + 12 * NV;
+    b->off_uv = b->off_t + (b->has_tan ? 16 * NV : 0), b->off_i = b->off_uv + (b->has_uv ? 8 * NV : 0);
+    b->len = b->off_i + 4 * C;
     for (int a = 0; a < 3; a++)
-        b.mn[a] = INFINITY, b.mx[a] = -INFINITY;
-    return b;
+        b->mn[a] = INFINITY, b->mx[a] = -INFINITY;
+    /* one primitive per run of consecutive triangles with one material:
+     * the triangles keep their order (the bake's "later triangle wins"
+     * holds in the file too), and a flattened scene's meshes stay apart */
+    size_t T = C / 3;
+    b->group_first = malloc((T + 1) * sizeof *b->group_first);
+    b->group_mat = malloc((T ? T : 1) * sizeof *b->group_mat);
+    b->off_img = calloc(d->image_count ? d->image_count : 1, sizeof *b->off_img);
+    if (!b->group_first || !b->group_mat || !b->off_img)
+        return -1;
+    size_t M = 0;
+    for (size_t t = 0; t < T; t++) {
+        uint32_t g = d->tri_material && d->material_count ? d->tri_material[t] : 0;
+        if (g >= d->material_count)
+            g = 0;
+        if (M == 0 || b->group_mat[M - 1] != g) {
+            b->group_first[M] = t;
+            b->group_mat[M++] = g;
+        }
+    }
+    b->group_first[M] = T;
+    b->ngroups = M;
+    for (size_t i = 0; i < d->image_count; i++) {
+        if (d->images[i].uri)
+            continue;
+        b->len = align4(b->len);
+        b->off_img[i] = b->len;
+        b->len += d->images[i].len;
+    }
+    return 0;
+}
+
+static void buf_free(gltf_buf *b)
+{
+    free(b->group_first);
+    free(b->group_mat);
+    free(b->off_img);
 }
 
 static void fill_buffer(const mesh_gltf_in *d, const uint32_t *newidx, const uint32_t *src,
                         gltf_buf *b, unsigned char *bin)
 {
+    memset(bin, 0, b->len);
     for (size_t i = 0; i < b->nv; i++) {
         size_t c = src[i];
         uint32_t v = d->indices[c];
@@ -186,18 +235,89 @@ static void fill_buffer(const mesh_gltf_in *d, const uint32_t *newidx, const uin
             for (int a = 0; a < 4; a++)
                 put_f32(bin + b->off_t + 16 * i + 4 * (size_t)a, d->corner_tangents[4 * c + (size_t)a]);
         if (b->has_uv) {
-            put_f32(bin + b->off_uv + 8 * i, d->u[v]);
-            put_f32(bin + b->off_uv + 8 * i + 4, 1.0f - d->v[v]);
+            float u = d->corner_uv ? d->corner_uv[2 * c] : d->u[v];
+            float w = d->corner_uv ? d->corner_uv[2 * c + 1] : d->v[v];
+            put_f32(bin + b->off_uv + 8 * i, u);
+            put_f32(bin + b->off_uv + 8 * i + 4, 1.0f - w);
         }
     }
     for (size_t c = 0; c < b->corners; c++)
         put_u32(bin + b->off_i + 4 * c, newidx[c]);
+    for (size_t i = 0; i < d->image_count; i++)
+        if (!d->images[i].uri && d->images[i].len)
+            memcpy(bin + b->off_img[i], d->images[i].bytes, d->images[i].len);
+}
+
+/* A JSON string's contents: quotes, backslashes and control characters
+ * escaped; other bytes (UTF-8) as they are. */
+static void sb_json_str(sbuf *js, const char *s)
+{
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            sb_add(js, "\\%c", c);
+        else if (c < 0x20)
+            sb_add(js, "\\u%04x", c);
+        else
+            sb_add(js, "%c", c);
+    }
+}
+
+/* materials, textures, samplers and images */
+static void gltf_materials(sbuf *js, const mesh_gltf_in *d, const gltf_buf *b, int first_img_view)
+{
+    if (!d->material_count)
+        return;
+    sb_add(js, "\"materials\":[");
+    for (size_t i = 0; i < d->material_count; i++) {
+        const mesh_gltf_material *mt = &d->materials[i];
+        sb_add(js, "%s{", i ? "," : "");
+        if (mt->name) {
+            sb_add(js, "\"name\":\"");
+            sb_json_str(js, mt->name);
+            sb_add(js, "\",");
+        }
+        sb_add(js, "\"pbrMetallicRoughness\":{\"metallicFactor\":0,\"roughnessFactor\":1");
+        if (mt->has_base_color) {
+            char c[4][32];
+            for (int k = 0; k < 4; k++)
+                json_num(c[k], sizeof c[k], mt->base_color[k]);
+            sb_add(js, ",\"baseColorFactor\":[%s,%s,%s,%s]", c[0], c[1], c[2], c[3]);
+        }
+        if (mt->base_color_image >= 0)
+            sb_add(js, ",\"baseColorTexture\":{\"index\":%d}", mt->base_color_image);
+        sb_add(js, "}");
+        if (mt->normal_image >= 0)
+            sb_add(js, ",\"normalTexture\":{\"index\":%d}", mt->normal_image);
+        sb_add(js, "}");
+    }
+    sb_add(js, "],");
+    if (!d->image_count)
+        return;
+    /* texture i shows image i with the one sampler: linear, mip-mapped, repeat */
+    sb_add(js, "\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987}],\"textures\":[");
+    for (size_t i = 0; i < d->image_count; i++)
+        sb_add(js, "%s{\"sampler\":0,\"source\":%zu}", i ? "," : "", i);
+    sb_add(js, "],\"images\":[");
+    int view = first_img_view;
+    for (size_t i = 0; i < d->image_count; i++) {
+        const mesh_gltf_image *im = &d->images[i];
+        if (im->uri) {
+            sb_add(js, "%s{\"uri\":\"", i ? "," : "");
+            sb_json_str(js, im->uri);
+            sb_add(js, "\"}");
+        } else {
+            sb_add(js, "%s{\"bufferView\":%d,\"mimeType\":\"%s\"}", i ? "," : "", view++, im->mime);
+        }
+    }
+    sb_add(js, "],");
+    (void)b;
 }
 
 /* The JSON of the file, up to the buffer's data URI when !binary. */
 static void gltf_json(sbuf *js, const mesh_gltf_in *d, const gltf_buf *b, int binary)
 {
-    size_t NV = b->nv, C = b->corners;
+    size_t NV = b->nv;
     int has_uv = b->has_uv, has_tan = b->has_tan;
     char a[6][32];
     for (int k = 0; k < 3; k++) {
@@ -206,30 +326,45 @@ static void gltf_json(sbuf *js, const mesh_gltf_in *d, const gltf_buf *b, int bi
     }
     sb_add(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"%s\"},", d->generator);
     sb_add(js, "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],");
-    int acc = 0;
-    int ip = acc++, in = acc++, it = has_tan ? acc++ : -1, iu = has_uv ? acc++ : -1, ii = acc++;
-    sb_add(js, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d", ip,
-           in);
-    if (has_tan)
-        sb_add(js, ",\"TANGENT\":%d", it);
-    if (has_uv)
-        sb_add(js, ",\"TEXCOORD_0\":%d", iu);
-    sb_add(js, "},\"indices\":%d,\"mode\":4}]}],", ii);
+    int acc = 0, view = 0;
+    int ip = acc++, in = acc++, it = has_tan ? acc++ : -1, iu = has_uv ? acc++ : -1;
+    int vp = view++, vn = view++, vt = has_tan ? view++ : -1, vu = has_uv ? view++ : -1;
+    int vi = view++;
+    sb_add(js, "\"meshes\":[{\"primitives\":[");
+    int first = 1;
+    for (size_t g = 0; g < b->ngroups; g++) {
+        sb_add(js, "%s{\"attributes\":{\"POSITION\":%d,\"NORMAL\":%d", first ? "" : ",", ip, in);
+        if (has_tan)
+            sb_add(js, ",\"TANGENT\":%d", it);
+        if (has_uv)
+            sb_add(js, ",\"TEXCOORD_0\":%d", iu);
+        sb_add(js, "},\"indices\":%d,\"mode\":4", acc++);
+        if (d->material_count)
+            sb_add(js, ",\"material\":%u", (unsigned)b->group_mat[g]);
+        sb_add(js, "}");
+        first = 0;
+    }
+    sb_add(js, "]}],");
+    gltf_materials(js, d, b, view);
     sb_add(js, "\"accessors\":[");
     sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\","
                "\"min\":[%s,%s,%s],\"max\":[%s,%s,%s]},",
-           ip, NV, a[0], a[1], a[2], a[3], a[4], a[5]);
-    sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"},", in,
+           vp, NV, a[0], a[1], a[2], a[3], a[4], a[5]);
+    sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\"}", vn,
            NV);
     if (has_tan)
-        sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"},",
-               it, NV);
+        sb_add(js, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC4\"}",
+               vt, NV);
     if (has_uv)
-        sb_add(js, "{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"},",
-               iu, NV);
-    sb_add(js, "{\"bufferView\":%d,\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}],",
-           ii, C);
-    sb_add(js, "\"bufferViews\":[");
+        sb_add(js, ",{\"bufferView\":%d,\"componentType\":5126,\"count\":%zu,\"type\":\"VEC2\"}",
+               vu, NV);
+    for (size_t g = 0; g < b->ngroups; g++) {
+        size_t n = b->group_first[g + 1] - b->group_first[g];
+        sb_add(js, ",{\"bufferView\":%d,\"byteOffset\":%zu,\"componentType\":5125,"
+                   "\"count\":%zu,\"type\":\"SCALAR\"}",
+               vi, 12 * b->group_first[g], 3 * n);
+    }
+    sb_add(js, "],\"bufferViews\":[");
     sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", b->off_p,
            12 * NV);
     sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},", b->off_n,
@@ -240,8 +375,13 @@ static void gltf_json(sbuf *js, const mesh_gltf_in *d, const gltf_buf *b, int bi
     if (has_uv)
         sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34962},",
                b->off_uv, 8 * NV);
-    sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}],", b->off_i,
-           4 * C);
+    sb_add(js, "{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu,\"target\":34963}", b->off_i,
+           4 * b->corners);
+    for (size_t i = 0; i < d->image_count; i++)
+        if (!d->images[i].uri)
+            sb_add(js, ",{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":%zu}", b->off_img[i],
+                   d->images[i].len);
+    sb_add(js, "],");
     if (binary) {
         sb_add(js, "\"buffers\":[{\"byteLength\":%zu}]}", b->len);
     } else {
@@ -306,15 +446,22 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
         rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "too many vertices for glTF (%zu)", NV);
         goto done;
     }
-    gltf_buf b = buf_layout(d, NV, C);
+    gltf_buf b;
+    if (buf_layout(d, NV, C, &b) != 0) {
+        buf_free(&b);
+        rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF of %zu triangles", T);
+        goto done;
+    }
     bin = malloc(b.len ? b.len : 1);
     if (!bin) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF buffer (%zu bytes)",
                       b.len);
+        buf_free(&b);
         goto done;
     }
     fill_buffer(d, newidx, src, &b, bin);
     gltf_json(&js, d, &b, binary);
+    buf_free(&b);
     if (js.oom) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF JSON");
         goto done;

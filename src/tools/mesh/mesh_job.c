@@ -17,7 +17,7 @@
 #include "common/parallel.h"
 #include "common/safe_file.h"
 #include "mesh/mesh_gltf.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 
 /* Vertices per parallel chunk: large enough that the per-chunk scratch and the
  * chunk bookkeeping are noise, small enough to balance two to 64 workers. */
@@ -284,29 +284,12 @@ typedef struct map_out {
     size_t n;
     char *tmp[MESH_UDIM_MAX_TILES], *final[MESH_UDIM_MAX_TILES];
     double t_write;
+    int gltf;             /* 0, or 1 (.glb) / 2 (.gltf): keep the map for OUT's material */
+    const char *out_path; /* OUT, for the glTF's relative URI */
+    mesh_gltf_map gmap[MESH_UDIM_MAX_TILES]; /* per tile written, for the glTF */
+    int gtile[MESH_UDIM_MAX_TILES];
+    size_t ng;
 } map_out;
-
-/* path with every <UDIM> replaced by the four-digit tile number */
-static char *tile_path(const char *path, int udim)
-{
-    size_t tok = strlen(MESH_UDIM_TOKEN), n = 0;
-    for (const char *p = strstr(path, MESH_UDIM_TOKEN); p; p = strstr(p + tok, MESH_UDIM_TOKEN))
-        n++;
-    char *out = malloc(strlen(path) + 1); /* 4 digits replace 6 characters */
-    if (!out)
-        return NULL;
-    char *o = out;
-    for (const char *p = path; *p;) {
-        if (n && strncmp(p, MESH_UDIM_TOKEN, tok) == 0) {
-            o += sprintf(o, "%04d", udim);
-            p += tok;
-        } else {
-            *o++ = *p++;
-        }
-    }
-    *o = '\0';
-    return out;
-}
 
 /* The map is OpenEXR: a file's extension says so, or on "-" its --format
  * (PNG without one). */
@@ -330,7 +313,7 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
     const int to_stdout = strcmp(mo->path, "-") == 0;
     const char *final = mo->path, *target = mo->path;
     if (!to_stdout) {
-        char *fin = mo->udim ? tile_path(mo->path, udim) : strdup(mo->path);
+        char *fin = mo->udim ? mesh_udim_path(mo->path, udim) : strdup(mo->path);
         if (!fin)
             return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
         char *tmp = bgt_safe_temp_path(fin, e);
@@ -354,6 +337,11 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
                         : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
                                                       : BG_ERR_IO,
                         "normal map %s: %s", final, err);
+    if (mo->gltf && mo->ng < MESH_UDIM_MAX_TILES) {
+        mo->gtile[mo->ng] = udim;
+        return mesh_gltf_map_image(&mo->gmap[mo->ng++], img, to_stdout ? NULL : target, final,
+                                   mo->out_path, mo->gltf == 1, e);
+    }
     return BG_OK;
 }
 
@@ -389,6 +377,9 @@ static void map_free(map_out *mo)
         free(mo->final[i]);
     }
     mo->n = 0;
+    for (size_t i = 0; i < mo->ng; i++)
+        mesh_gltf_map_free(&mo->gmap[i]);
+    mo->ng = 0;
 }
 
 /* Sum the chunk statistics in chunk order into *r. */
@@ -479,6 +470,25 @@ static bg_status bake_map(const bgt_mesh_opts *o, const bg_mesh *m, const vertex
     mo->path = o->bake_path;
     mo->format = o->bake_format; /* the shim takes "exr", ".exr" or "EXR" alike */
     mo->type = (bg_pixel_type)o->bake_depth;
+    mo->out_path = o->output;
+    mesh_out_format f = o->output ? mesh_out_format_of(o->output) : MESH_OUT_PLY;
+    r->gltf_map_note = NULL;
+    if (f == MESH_OUT_GLB || f == MESH_OUT_GLTF) {
+        /* The map becomes the materials' normalTexture unless a viewer
+         * would decode it wrongly (glTF normal textures are tangent space,
+         * green up, one image per material). */
+        if (o->gltf_normals == MESH_GLTF_NORMALS_BUMPED)
+            r->gltf_map_note = "--gltf-normals bumped: the normals carry the bump, so no material "
+                               "uses the map (it would bump twice)";
+        else if (o->bake.space != MESH_BAKE_TANGENT)
+            r->gltf_map_note = "an object-space map: glTF normal textures are tangent space, so "
+                               "no material uses it";
+        else if (o->bake.green_down)
+            r->gltf_map_note = "--normal-map-y -y: glTF normal textures are green up (+y), so no "
+                               "material uses the map";
+        else
+            mo->gltf = f == MESH_OUT_GLB ? 1 : 2;
+    }
     if (o->bake_depth < 0)
         mo->type = map_is_exr(o->bake_path, o->bake_format) ? BG_PIXEL_HALF : BG_PIXEL_U8;
     return mesh_bake(m, job->ox, job->oy, job->oz, job->h, &bake, map_sink, mo, &r->bake, e);
@@ -493,6 +503,7 @@ typedef struct mesh_out {
     FILE *devout;
     char *obj_tmp;
     float *gltf_tan;
+    float *gltf_uv; /* per corner, shifted into the tile (a <UDIM> bake) */
 } mesh_out;
 
 static void out_free(mesh_out *w)
@@ -504,6 +515,7 @@ static void out_free(mesh_out *w)
         free(w->obj_tmp);
     }
     free(w->gltf_tan);
+    free(w->gltf_uv);
     if (w->of.fp)
         bgt_safe_abort(&w->of);
     memset(w, 0, sizeof *w);
@@ -536,27 +548,109 @@ static bg_status out_open(mesh_out *w, const bg_mesh *m, const vertex_job *job, 
     return bgt_safe_open(&w->of, w->path, e);
 }
 
-/* glTF: TANGENT is the mikkTSpace frame of the bumped normals, which is what a
- * glTF viewer computes from this file when it ignores the attribute, so both
- * ways agree. */
-static bg_status out_gltf(mesh_out *w, const bg_mesh *m, const vertex_job *job, bgt_err *e)
+/* A <UDIM> bake in the glTF: each triangle belongs to the tile of its UV
+ * centroid; its corners' UVs are shifted by the tile's origin into [0, 1)
+ * (a triangle across a tile border keeps its corners outside it), and its
+ * material is the pair (its material, that tile's map). */
+static bg_status gltf_tiles(const bg_mesh *m, const map_out *mo, mesh_gltf_scene *sc,
+                            uint32_t **tri_mat, float **corner_uv, bgt_err *e)
+{
+    size_t T = m->triangle_count;
+    int *tri_map = malloc((T ? T : 1) * sizeof *tri_map);
+    float *uv = malloc((T ? 3 * T : 1) * 2 * sizeof *uv);
+    if (!tri_map || !uv) {
+        free(tri_map), free(uv);
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tiles");
+    }
+    for (size_t t = 0; t < T; t++) {
+        const uint32_t *ix = m->indices + 3 * t;
+        double uc = ((double)m->u[ix[0]] + m->u[ix[1]] + m->u[ix[2]]) / 3.0;
+        double vc = ((double)m->v[ix[0]] + m->v[ix[1]] + m->v[ix[2]]) / 3.0;
+        double a = floor(uc), b = floor(vc);
+        int tile = a >= 0 && a < 10 && b >= 0 && b < MESH_UDIM_V_TILES
+                       ? 1001 + (int)a + 10 * (int)b
+                       : 0;
+        tri_map[t] = -1;
+        for (size_t j = 0; j < mo->ng; j++)
+            if (mo->gtile[j] == tile)
+                tri_map[t] = (int)j;
+        for (int k = 0; k < 3; k++) {
+            uv[6 * t + 2 * (size_t)k] = tile ? (float)(m->u[ix[k]] - a) : m->u[ix[k]];
+            uv[6 * t + 2 * (size_t)k + 1] = tile ? (float)(m->v[ix[k]] - b) : m->v[ix[k]];
+        }
+    }
+    bg_status st = mesh_gltf_scene_tiles(sc, m, mo->gmap, mo->gtile, mo->ng, tri_map, tri_mat, e);
+    free(tri_map);
+    if (st != BG_OK) {
+        free(uv);
+        return st;
+    }
+    *corner_uv = uv;
+    return BG_OK;
+}
+
+/* glTF. With a baked map (and not --gltf-normals bumped): NORMAL holds the
+ * original normals and TANGENT the frames the map was encoded in, and every
+ * material's normalTexture is the map, so a viewer applies the bump once.
+ * Without one: the bumped normals and their mikkTSpace frames, which is what
+ * a glTF viewer computes from this file when it ignores the attribute. */
+static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
+                          const vertex_job *job, map_out *mo, bgt_mesh_result *r, bgt_err *e)
 {
     size_t nv = m->vertex_count, nt = m->triangle_count;
+    int bumped = o->gltf_normals == MESH_GLTF_NORMALS_BUMPED ||
+                 (o->gltf_normals == MESH_GLTF_NORMALS_AUTO && !o->bake_path);
+    const float *nx = bumped ? job->nx : job->ox, *ny = bumped ? job->ny : job->oy;
+    const float *nz = bumped ? job->nz : job->oz;
+    r->gltf_bumped_normals = bumped;
+    bg_status st;
     if (m->u) {
-        w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
-        bgt_mikk_mesh mm = {nv, nt, m->indices, m->px, m->py, m->pz,
-                            job->nx, job->ny, job->nz, m->u, m->v};
-        if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
-            return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
+        if (!bumped && o->bake_path && o->bake.space == MESH_BAKE_TANGENT) {
+            mesh_bake_stats scratch;
+            memset(&scratch, 0, sizeof scratch);
+            /* job->m: the positions the bake's frames came from */
+            if ((st = mesh_bake_corner_tangents(job->m, nx, ny, nz, &o->bake, &w->gltf_tan,
+                                                &scratch, e)) != BG_OK)
+                return st;
+        } else {
+            w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
+            bgt_mikk_mesh mm = {nv, nt, m->indices, job->m->px, job->m->py, job->m->pz,
+                                nx, ny, nz, m->u, m->v};
+            if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
+                return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
+        }
     }
+    const int binary = w->fmt == MESH_OUT_GLB;
+    const int tiled = mo->udim && mo->ng > 0;
+    mesh_gltf_scene sc;
+    uint32_t *tri_mat = NULL;
+    if ((st = mesh_gltf_scene_build(&sc, o->input, m, !tiled && mo->ng ? &mo->gmap[0] : NULL,
+                                    w->path, binary, e)) == BG_OK &&
+        tiled)
+        st = gltf_tiles(m, mo, &sc, &tri_mat, &w->gltf_uv, e);
+    if (st != BG_OK) {
+        mesh_gltf_scene_free(&sc);
+        return st;
+    }
+    r->gltf_map = mo->ng ? 1 + mo->gmap[0].converted : 0;
+    r->gltf_materials = sc.material_count;
+    r->gltf_textures = sc.textures_kept;
+    r->gltf_textures_dropped = sc.textures_dropped;
     char gen[96];
     snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
     mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
                       .px = m->px, .py = m->py, .pz = m->pz,
-                      .nx = job->nx, .ny = job->ny, .nz = job->nz,
+                      .nx = nx, .ny = ny, .nz = nz,
                       .u = m->u, .v = m->v, .corner_tangents = w->gltf_tan,
-                      .indices = m->indices, .generator = gen};
-    return mesh_gltf_write(w->devout ? w->devout : w->of.fp, w->fmt == MESH_OUT_GLB, &g, e);
+                      .indices = m->indices, .generator = gen,
+                      .tri_material = tri_mat ? tri_mat : m->material_count > 1 ? m->material : NULL,
+                      .corner_uv = w->gltf_uv,
+                      .material_count = sc.material_count, .materials = sc.materials,
+                      .image_count = sc.image_count, .images = sc.images};
+    st = mesh_gltf_write(w->devout ? w->devout : w->of.fp, binary, &g, e);
+    mesh_gltf_scene_free(&sc);
+    free(tri_mat);
+    return st;
 }
 
 /* PLY: the per-vertex table of docs/MESH.md, the run's settings in a comment. */
@@ -567,12 +661,13 @@ static bg_status out_ply(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
     const bg_height *hh = &job->h->h;
     snprintf(comment, sizeof comment,
              "bumpgrad %s mesh method=%s function=%s octaves=%d lacunarity=%g gain=%g "
-             "amplitude=%g frequency=%g gradient=%s normals=%s",
+             "amplitude=%g frequency=%g gradient=%s normals=%s units=%s",
              bg_version_string(), method_name(job->method), function_name(hh->fractal.function),
              hh->fractal.octaves, (double)hh->fractal.lacunarity, (double)hh->fractal.gain,
              (double)hh->amplitude, (double)hh->frequency,
              hh->gradient == BG_GRADIENT_CENTRAL ? "central" : "analytic",
-             file_normals ? "file" : "angle-weighted");
+             file_normals ? "file" : "angle-weighted",
+             o->units == MESH_UNITS_FILE ? "file" : "model-radius");
     mesh_ply_out d = {.vertex_count = m->vertex_count, .triangle_count = m->triangle_count,
                       .px = m->px, .py = m->py, .pz = m->pz,
                       .nx = job->nx, .ny = job->ny, .nz = job->nz,
@@ -605,7 +700,8 @@ static bg_status out_commit(mesh_out *w, bgt_err *e)
 
 /* OUT written to its temporary (out_commit puts it in place). */
 static bg_status out_write(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
-                           const vertex_job *job, int file_normals, bgt_err *e)
+                           const vertex_job *job, int file_normals, map_out *mo,
+                           bgt_mesh_result *r, bgt_err *e)
 {
     w->path = o->output;
     w->fmt = mesh_out_format_of(o->output);
@@ -613,7 +709,7 @@ static bg_status out_write(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m
     if (st != BG_OK)
         return st;
     if (w->fmt == MESH_OUT_GLB || w->fmt == MESH_OUT_GLTF)
-        return out_gltf(w, m, job, e);
+        return out_gltf(w, o, m, job, mo, r, e);
     if (w->fmt == MESH_OUT_PLY)
         return out_ply(w, o, m, job, file_normals, e);
     return BG_OK;
@@ -658,7 +754,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     }
     size_t nv = m.vertex_count, nchunks = (nv + MESH_CHUNK - 1) / MESH_CHUNK;
     int file_normals = m.nx != NULL;
-    float *ox = NULL, *oy = NULL, *oz = NULL, *outs = NULL;
+    float *ox = NULL, *oy = NULL, *oz = NULL, *outs = NULL, *fpos = NULL;
     chunk_stats *stats = NULL;
     map_out mo;
     memset(&mo, 0, sizeof mo);
@@ -679,6 +775,38 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
     r->no_normal = no_normal;
     count_defects(&m, r);
 
+    /* The height's frame: the model scaled into the unit sphere (the
+     * default), or the file's units. */
+    bg_mesh frame = m;
+    r->unit = 1.0;
+    r->model_radius = mesh_bounding_sphere(&m, r->model_centre);
+    if (o->units == MESH_UNITS_MODEL) {
+        if (!(r->model_radius > 0.0 && isfinite(r->model_radius))) {
+            st = bgt_fail(e, BG_ERR_FORMAT,
+                          "'%s': no finite extent, so no model size for --units model (use "
+                          "--units file)",
+                          o->input);
+            goto done;
+        }
+        if (!(fpos = malloc((nv ? nv : 1) * 3 * sizeof *fpos))) {
+            st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu vertices", nv);
+            goto done;
+        }
+        for (size_t i = 0; i < nv; i++) {
+            fpos[i] = mesh_model_coord(m.px[i], r->model_centre[0], r->model_radius);
+            fpos[nv + i] = mesh_model_coord(m.py[i], r->model_centre[1], r->model_radius);
+            fpos[2 * nv + i] = mesh_model_coord(m.pz[i], r->model_centre[2], r->model_radius);
+        }
+        frame.px = fpos, frame.py = fpos + nv, frame.pz = fpos + 2 * nv;
+        r->unit = r->model_radius;
+    }
+    if (!h.grid) {
+        const bg_fractal *fr = &h.h.fractal;
+        int oct = fr->function == BG_FUNC_NOISE ? 1 : fr->octaves;
+        r->coarsest_feature = r->unit / fabs((double)h.h.frequency);
+        r->finest_feature = r->coarsest_feature / pow(fabs((double)fr->lacunarity), oct - 1);
+    }
+
     /* nx ny nz height [compare]: the only per-vertex arrays besides the mesh. */
     outs = malloc(nv * (size_t)(o->compare ? 5 : 4) * sizeof *outs);
     stats = calloc(nchunks ? nchunks : 1, sizeof *stats);
@@ -686,7 +814,7 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu vertices", nv);
         goto done;
     }
-    vertex_job job = {.m = &m, .h = &h, .method = method,
+    vertex_job job = {.m = &frame, .h = &h, .method = method,
                       .other = method == BG_PERTURB_SURFGRAD ? BG_PERTURB_ADDITIVE
                                                              : BG_PERTURB_SURFGRAD,
                       .ox = ox, .oy = oy, .oz = oz,
@@ -699,19 +827,21 @@ bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e)
         goto done;
 
     double t_bake0 = now_seconds();
-    if (o->bake_path && (st = bake_map(o, &m, &job, threads, &mo, r, e)) != BG_OK)
+    if (o->bake_path && (st = bake_map(o, &frame, &job, threads, &mo, r, e)) != BG_OK)
         goto done;
     double t_bake1 = now_seconds();
 
     /* OUT goes to a temporary file first and is renamed only after the map
      * is in place too, so a failing bake leaves the old OUT alone. */
-    if (o->output && (st = out_write(&w, o, &m, &job, file_normals, e)) != BG_OK)
+    if (o->output && (st = out_write(&w, o, &m, &job, file_normals, &mo, r, e)) != BG_OK)
         goto done;
     if (o->bake_path && (st = map_commit(&mo, e)) != BG_OK)
         goto done;
     if (o->output && (st = out_commit(&w, e)) != BG_OK)
         goto done;
 
+    if (o->output)
+        r->output_format = mesh_out_format_name(mesh_out_format_of(o->output), o->ascii);
     double t_end = now_seconds();
     r->t_load = t_load - t0;
     r->t_normals = t_normals - t_load;
@@ -723,6 +853,7 @@ done:
     out_free(&w);
     map_free(&mo);
     free(outs);
+    free(fpos);
     free(stats);
     if (!file_normals) {
         free(ox);

@@ -5,7 +5,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh_internal.h"
 
 /* Rows are staged in a buffer so that one fwrite moves many vertices. */
 typedef struct sink {

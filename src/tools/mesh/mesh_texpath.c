@@ -118,3 +118,22 @@ char *mesh_texture_find(const char *mesh_path, size_t index, const char *name, c
     free(dir);
     return found;
 }
+
+char *mesh_udim_path(const char *pattern, int udim)
+{
+    size_t tok = strlen(MESH_UDIM_TOKEN);
+    char *out = malloc(strlen(pattern) + 1); /* 4 digits replace 6 characters */
+    if (!out)
+        return NULL;
+    char *o = out;
+    for (const char *p = pattern; *p;) {
+        if (strncmp(p, MESH_UDIM_TOKEN, tok) == 0) {
+            o += sprintf(o, "%04d", udim);
+            p += tok;
+        } else {
+            *o++ = *p++;
+        }
+    }
+    *o = '\0';
+    return out;
+}

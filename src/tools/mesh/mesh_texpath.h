@@ -23,6 +23,14 @@
  * A place counts when it is a regular file. */
 #define MESH_TEXTURE_PLACES 4
 
+/* UDIM tile sets (the Mari convention, docs/MESH.md "UDIM tiles"): a name
+ * with this token stands for one file per tile, the token replaced by the
+ * four-digit tile number 1001 + u_tile + 10 * v_tile. */
+#define MESH_UDIM_TOKEN "<UDIM>"
+/* `pattern` with every MESH_UDIM_TOKEN replaced by `udim` (four digits),
+ * malloc'd; NULL when out of memory. */
+char *mesh_udim_path(const char *pattern, int udim);
+
 /* The label of material `index` ('name') of `mesh_path` in messages:
  * "material N 'NAME' of MESH", N as in the file's (assimp's) material order,
  * from 0. Returns buf. */

@@ -22,10 +22,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
 #include "mesh/mesh_texpath.h"
-#include "mesh/mesh_tool.h"
+#include "mesh/mesh.h"
+#include "mesh/mesh_frames.h"
+#include "mesh/mikktspace.h"
 #include "render/render_internal.h"
 #include "vecmath.h"
 
@@ -65,7 +68,7 @@ static float srgb_to_linear(float c)
 }
 
 /* Read `path` as an image; any failure is the caller's input at fault (exit 2). */
-static bg_status read_texture(const char *what, const char *path, bg_image *img, bgt_err *e)
+static bg_status read_one(const char *what, const char *path, bg_image *img, bgt_err *e)
 {
     char err[512];
     bg_status s = bg_image_read(path, img, err, sizeof err);
@@ -77,6 +80,108 @@ static bg_status read_texture(const char *what, const char *path, bg_image *img,
             bg_image_free(img);
             return bgt_fail(e, BG_ERR_FORMAT, "%s \"%s\": holds NaN or Inf texels", what, path);
         }
+    return BG_OK;
+}
+
+/* ---- UDIM texture sets ----
+ * `--normal-map 'n.<UDIM>.png'` (and --height-map, --albedo) reads the tiles
+ * that `bumpgrad mesh` writes. The tiles are placed side by side in one
+ * texture (tile (a, b) at column a, row nv - 1 - b: v grows upward) and the
+ * mesh's UVs are divided by (nu, nv) when it is loaded, so that every sample
+ * lands in its tile's part; a texture without the token is repeated in every
+ * part, which is what its wrap did before. Texture slopes and mikkTSpace
+ * directions do not change under this per-axis scaling of UVs and texels
+ * alike. Missing tiles inside the nu x nv range are black. */
+typedef struct udim_layout {
+    int nu, nv; /* tiles across and up (0: no set) */
+} udim_layout;
+
+static int file_exists(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* The tile range of the sets the options name (their union). */
+static bg_status udim_scan(const render_opts *o, udim_layout *ul, bgt_err *e)
+{
+    static const char *const option[3] = {"--albedo", "--height-map", "--normal-map"};
+    const char *const given[3] = {o->albedo_map, o->height_map, o->normal_map};
+    ul->nu = ul->nv = 0;
+    for (int k = 0; k < 3; k++) {
+        if (!given[k] || !strstr(given[k], MESH_UDIM_TOKEN))
+            continue;
+        int found = 0;
+        for (int b = 0; b < MESH_UDIM_V_TILES; b++)
+            for (int a = 0; a < 10; a++) {
+                char *p = mesh_udim_path(given[k], 1001 + a + 10 * b);
+                if (!p)
+                    return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                if (file_exists(p)) {
+                    found = 1;
+                    ul->nu = a + 1 > ul->nu ? a + 1 : ul->nu;
+                    ul->nv = b + 1 > ul->nv ? b + 1 : ul->nv;
+                }
+                free(p);
+            }
+        if (!found)
+            return bgt_fail(e, BG_ERR_FORMAT,
+                            "%s \"%s\": no tile of this UDIM set exists (the token stands for "
+                            "1001, 1002, ...)",
+                            option[k], given[k]);
+    }
+    return BG_OK;
+}
+
+/* A texture, or with a UDIM layout the nu x nv atlas of its tiles (or of
+ * copies of a plain texture). */
+static bg_status read_texture(const char *what, const char *path, const udim_layout *ul,
+                              bg_image *img, bgt_err *e)
+{
+    if (!ul || ul->nu == 0)
+        return read_one(what, path, img, e);
+    const int set = strstr(path, MESH_UDIM_TOKEN) != NULL;
+    bg_image atlas = {0}, tile;
+    bg_status s = BG_OK;
+    int W = 0, H = 0, C = 0;
+    for (int b = 0; b < ul->nv && s == BG_OK; b++)
+        for (int a = 0; a < ul->nu && s == BG_OK; a++) {
+            char *p = set ? mesh_udim_path(path, 1001 + a + 10 * b) : strdup(path);
+            if (!p)
+                return bg_image_free(&atlas), bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+            if (set && !file_exists(p)) {
+                free(p);
+                continue;
+            }
+            if ((s = read_one(what, p, &tile, e)) == BG_OK) {
+                if (!atlas.pixels) {
+                    W = tile.width, H = tile.height, C = tile.channels;
+                    s = bgt_check_alloc((double)W * H * C * ul->nu * ul->nv * sizeof(float),
+                                        "the UDIM texture", e);
+                    if (s == BG_OK && bg_image_alloc(&atlas, W * ul->nu, H * ul->nv, C) != BG_OK)
+                        s = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
+                    if (s == BG_OK)
+                        memset(atlas.pixels, 0, (size_t)W * H * C * ul->nu * ul->nv * sizeof(float));
+                }
+                if (s == BG_OK && (tile.width != W || tile.height != H || tile.channels != C))
+                    s = bgt_fail(e, BG_ERR_FORMAT,
+                                 "%s \"%s\": %dx%d with %d channels, the set's first tile has "
+                                 "%dx%d with %d",
+                                 what, p, tile.width, tile.height, tile.channels, W, H, C);
+                for (int y = 0; s == BG_OK && y < H; y++)
+                    memcpy(atlas.pixels +
+                               (((size_t)(ul->nv - 1 - b) * H + (size_t)y) * (size_t)W * ul->nu +
+                                (size_t)a * W) * C,
+                           tile.pixels + (size_t)y * W * C, (size_t)W * C * sizeof(float));
+                bg_image_free(&tile);
+            }
+            free(p);
+        }
+    if (s != BG_OK) {
+        bg_image_free(&atlas);
+        return s;
+    }
+    *img = atlas;
     return BG_OK;
 }
 
@@ -203,8 +308,9 @@ static bg_status image_to_textures(bg_image *img, int nch,
  * height). hp, np, ap: paths or NULL; what[]: their origins in messages (the
  * option, or the material: texture_origins). ls, lt: the mesh's mean |dP/ds|,
  * |dP/dt|. */
-static bg_status load_material(const render_opts *o, const char *hp, const char *np,
-                               const char *ap, const char *const what[3], int want_nmap,
+static bg_status load_material(const render_opts *o, const udim_layout *ul, const char *hp,
+                               const char *np, const char *ap, const char *const what[3],
+                               int want_nmap,
                                double ls, double lt, const render_textures *t,
                                render_material *M, char *desc, size_t desclen, size_t *dl,
                                int short_names, bgt_err *e)
@@ -212,20 +318,20 @@ static bg_status load_material(const render_opts *o, const char *hp, const char 
     bg_image img;
     bg_status s;
     if (ap && !o->no_albedo) {
-        if ((s = read_texture(what[0], ap, &img, e)) != BG_OK ||
+        if ((s = read_texture(what[0], ap, ul, &img, e)) != BG_OK ||
             (s = image_to_textures(&img, 3, texel_albedo, M->owned, M->albedo, e)) != BG_OK)
             return s;
         desc_add(desc, desclen, dl, short_names, " albedo=", ap, "");
     }
     const char *hsrc = hp ? hp : ap;
     if (hsrc) {
-        if ((s = read_texture(hp ? what[1] : what[0], hsrc, &img, e)) != BG_OK ||
+        if ((s = read_texture(hp ? what[1] : what[0], hsrc, ul, &img, e)) != BG_OK ||
             (s = image_to_textures(&img, 1, texel_height, M->owned + 3, &M->height, e)) != BG_OK)
             return s;
         desc_add(desc, desclen, dl, short_names, " height=", hsrc, hp ? "" : "(gray-of-albedo)");
     }
     if (want_nmap && np) {
-        if ((s = read_texture(what[2], np, &img, e)) != BG_OK)
+        if ((s = read_texture(what[2], np, ul, &img, e)) != BG_OK)
             return s;
         if (img.channels < 3) {
             bg_image_free(&img);
@@ -329,31 +435,6 @@ static bg_status read_mesh(const render_opts *o, bg_mesh *bm, bgt_err *e)
     return BG_OK;
 }
 
-/* The sphere around the finite vertices: its centre c (of their bounding
- * box) and radius, 0 or NaN when there is no finite extent. */
-static double bounding_sphere(const bg_mesh *bm, double c[3])
-{
-    const size_t nv = bm->vertex_count;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < nv; i++) {
-        double p[3] = {bm->px[i], bm->py[i], bm->pz[i]};
-        if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2]))
-            continue;
-        for (int a = 0; a < 3; a++)
-            lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
-    }
-    double rad = 0;
-    for (int a = 0; a < 3; a++)
-        c[a] = 0.5 * (lo[a] + hi[a]);
-    for (size_t i = 0; i < nv; i++) {
-        double d[3] = {bm->px[i] - c[0], bm->py[i] - c[1], bm->pz[i] - c[2]};
-        double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (isfinite(r) && r > rad)
-            rad = r;
-    }
-    return rad;
-}
-
 /* Vertex attributes: vp the positions normalized into the unit sphere, vn
  * the unit vertex normals of the mesh tool (mesh_frames.c: the file's,
  * renormalized, else angle-weighted), so that a normal map baked by
@@ -377,9 +458,9 @@ static bg_status vertex_arrays(const bg_mesh *bm, const double c[3], double rad,
         goto oom;
     }
     for (size_t i = 0; i < nv; i++) {
-        p[i * 3] = (float)((bm->px[i] - c[0]) / rad);
-        p[i * 3 + 1] = (float)((bm->py[i] - c[1]) / rad);
-        p[i * 3 + 2] = (float)((bm->pz[i] - c[2]) / rad);
+        p[i * 3] = mesh_model_coord(bm->px[i], c[0], rad);
+        p[i * 3 + 1] = mesh_model_coord(bm->py[i], c[1], rad);
+        p[i * 3 + 2] = mesh_model_coord(bm->pz[i], c[2], rad);
         n[i * 3] = snx[i], n[i * 3 + 1] = sny[i], n[i * 3 + 2] = snz[i];
         /* (0,0,0): the face normal is used there (render_core trace) */
     }
@@ -501,7 +582,7 @@ static bg_status mesh_geometry(const render_opts *o, bg_mesh *bm, int want_nmap,
                                flat_tris *ft, bgt_err *e)
 {
     double c[3];
-    const double rad = bounding_sphere(bm, c);
+    const double rad = mesh_bounding_sphere(bm, c);
     if (!(rad > 0))
         return bgt_fail(e, BG_ERR_FORMAT, "--mesh \"%s\": no finite triangle of nonzero size",
                         o->mesh_path);
@@ -544,9 +625,9 @@ static bg_status mesh_geometry(const render_opts *o, bg_mesh *bm, int want_nmap,
 
 /* The textures of every used material set (mats: the mesh's materials),
  * then the checks that the methods asked for find theirs. */
-static bg_status mesh_textures(const render_opts *o, const bg_mesh *mats, const flat_tris *ft,
-                               int want_nmap, render_textures *t, char *desc, size_t desclen,
-                               bgt_err *e)
+static bg_status mesh_textures(const render_opts *o, const udim_layout *ul, const bg_mesh *mats,
+                               const flat_tris *ft, int want_nmap, render_textures *t, char *desc,
+                               size_t desclen, bgt_err *e)
 {
     const size_t nsets = ft->nsets, nmt = mats->material_count;
     t->mat = calloc(nsets, sizeof *t->mat);
@@ -571,7 +652,7 @@ static bg_status mesh_textures(const render_opts *o, const bg_mesh *mats, const 
         s = texture_origins(o, me, i, path, found, what, e);
         if (s == BG_OK) {
             const char *const labels[3] = {what[0], what[1], what[2]};
-            s = load_material(o, path[1], path[2], path[0], labels, want_nmap, ft->ls, ft->lt, t,
+            s = load_material(o, ul, path[1], path[2], path[0], labels, want_nmap, ft->ls, ft->lt, t,
                               &t->mat[i], desc, desclen, &dl, nsets > 1, e);
         }
         free(found[0]), free(found[1]), free(found[2]);
@@ -614,6 +695,14 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
     if (s != BG_OK)
         return s;
     const int has_uv = bm.u != NULL;
+    udim_layout ul;
+    if ((s = udim_scan(o, &ul, e)) != BG_OK) {
+        bg_mesh_free(&bm);
+        return s;
+    }
+    if (has_uv && ul.nu > 0) /* into the atlas of the UDIM tiles (read_texture) */
+        for (size_t i = 0; i < bm.vertex_count; i++)
+            bm.u[i] /= (float)ul.nu, bm.v[i] /= (float)ul.nv;
     const int want_nmap = need_texture(o, RENDER_NORMALMAP) || o->preset == PRESET_FIG4;
     flat_tris ft;
     if ((s = mesh_geometry(o, &bm, want_nmap, m, &ft, e)) != BG_OK) {
@@ -628,7 +717,7 @@ bg_status render_load_mesh(const render_opts *o, render_mesh *m,
         t->nmat = t->mat ? 1 : 0;
         s = t->mat ? BG_OK : bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     } else {
-        s = mesh_textures(o, &bm, &ft, want_nmap, t, desc, desclen, e);
+        s = mesh_textures(o, &ul, &bm, &ft, want_nmap, t, desc, desclen, e);
     }
     bg_mesh_free(&bm);
     flat_free(&ft);

@@ -1,60 +1,20 @@
 /* SPDX-License-Identifier: MIT */
-/* The mesh tool behind `bumpgrad mesh` (src/cli/cmd_mesh.c): the whole job
- * (bgt_mesh_run, mesh_job.c), and its pieces: mesh-level vertex normals and
- * tangents (mesh_frames.c), the PLY writer (mesh_ply.c) and the UV-space
- * normal-map baker (mesh_bake.c). Tools build only. */
-#ifndef BUMPGRAD_TOOLS_MESH_TOOL_H
-#define BUMPGRAD_TOOLS_MESH_TOOL_H
+/* The face of the mesh tool behind `bumpgrad mesh` (src/cli/cmd_mesh.c): its
+ * options, its result and bgt_mesh_run (mesh_job.c). The pieces (frames, PLY
+ * and glTF writers, the baker) are declared in mesh_internal.h, which only the
+ * tool's own files include. Tools build only. */
+#ifndef BUMPGRAD_TOOLS_MESH_H
+#define BUMPGRAD_TOOLS_MESH_H
 
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include "bumpgrad.h"
 #include "bumpgrad/image.h"
 #include "bumpgrad/mesh.h"
 #include "common/tool.h"
 #include "height_source.h"
+#include "mesh/mesh_texpath.h"
 #include "mesh/mikktspace.h"
-
-/* ---- degenerate input ----
- * A triangle is "unusable" when an index repeats, a corner position is NaN/Inf,
- * or its area is zero (the cross product of its edges is 0 in double). Unusable
- * triangles add nothing to vertex normals, tangents or the bake; they stay in
- * the output PLY as they were. */
-int mesh_triangle_usable(const bg_mesh *m, size_t t);
-
-/* Normalize the normals in place with the rule of surfgrad.h: a zero or
- * non-finite normal becomes (0,0,0), the "no normal" sentinel. Returns how
- * many sentinels there are. */
-size_t mesh_normalize_normals(size_t n, float *nx, float *ny, float *nz);
-
-/* Angle-weighted vertex normals (Thürmer and Wüthrich 1998): the sum over the
- * usable triangles around a vertex of (corner angle) * (unit face normal),
- * normalized. Face normals follow the winding (counter-clockwise = front).
- * A vertex with no usable triangle gets the (0,0,0) sentinel. Returns the
- * number of sentinels, or (size_t)-1 when out of memory. */
-size_t mesh_vertex_normals(const bg_mesh *m, float *nx, float *ny, float *nz);
-
-/* Tangent frames: per corner, in the mikkTSpace convention (mikktspace.h,
- * bgt_mikk_tangents); the bake and the glTF output use them. */
-/* Signed UV area (twice) of triangle t: > 0 keeps orientation, < 0 mirrors. */
-double mesh_uv_signed_area(const bg_mesh *m, size_t t);
-
-/* ---- PLY output ---- */
-typedef struct mesh_ply_out {
-    size_t vertex_count, triangle_count;
-    const float *px, *py, *pz;
-    const float *nx, *ny, *nz;    /* perturbed unit normal */
-    const float *ox, *oy, *oz;    /* original unit normal */
-    const float *height;
-    const float *compare;         /* NULL, or the surfgrad/additive angle (degrees) */
-    const float *u, *v;           /* NULL when the mesh has no UVs */
-    const uint32_t *indices;
-    const char *comment;          /* one header comment line, or NULL */
-    int ascii;
-} mesh_ply_out;
-/* Write the PLY into an open stream. 0, or nonzero on a write error. */
-int mesh_ply_write(FILE *fp, const mesh_ply_out *d);
 
 /* ---- normal-map bake ---- */
 typedef enum mesh_bake_space { MESH_BAKE_TANGENT = 0, MESH_BAKE_OBJECT = 1 } mesh_bake_space;
@@ -69,9 +29,18 @@ typedef enum mesh_tangent_source {
  * that a triangle's UV bounding box touches and at least one texel centre of
  * which is covered; at most MESH_UDIM_MAX_TILES tiles (more is refused before
  * any baking: each tile is a full W x H bake). */
-#define MESH_UDIM_TOKEN "<UDIM>"
 #define MESH_UDIM_MAX_TILES 100
 #define MESH_UDIM_V_TILES 899
+/* How a texel's height is band-limited (docs/MESH.md, "Anti-aliasing"). */
+typedef enum mesh_bake_filter {
+    MESH_FILTER_FOOTPRINT = 0, /* octaves finer than the texel's object-space footprint (from
+                                * its triangle's UV Jacobian) fade out (bg_octave_weight);
+                                * a VDB height is not filtered (use samples) */
+    MESH_FILTER_NONE = 1       /* every octave at the sample point */
+} mesh_bake_filter;
+#define MESH_MAX_SAMPLES 16
+#define MESH_DEFAULT_SAMPLES 2
+
 typedef struct mesh_bake_opts {
     int width, height;   /* per tile */
     mesh_bake_space space;
@@ -82,6 +51,9 @@ typedef struct mesh_bake_opts {
     int green_down;      /* store -m.y (DirectX normal maps, --normal-map-y -y) */
     int udim;            /* bake every UDIM tile (else the unit square only, tile 1001) */
     const bgt_progress *progress; /* texels shaded, over all tiles; may be NULL */
+    mesh_bake_filter filter;
+    int samples;         /* N: N x N stratified samples per texel, averaged (1: the texel
+                          * centre; 0: MESH_DEFAULT_SAMPLES), at most MESH_MAX_SAMPLES */
 } mesh_bake_opts;
 typedef struct mesh_bake_stats {
     size_t covered;      /* texels inside some triangle */
@@ -91,25 +63,28 @@ typedef struct mesh_bake_stats {
     size_t overlap_texels;   /* texel centres strictly inside two or more triangles */
     size_t overlap_islands;  /* islands with a triangle in such an overlap */
     bgt_mikk_stats mikk;     /* of the mikkTSpace tangents (tangent space, MESH_TANGENTS_MIKK) */
+    /* Without udim: triangles whose UVs lie wholly outside the unit square
+     * (left out of the map), and the first UDIM tiles they touch. */
+    size_t outside_triangles;
+    size_t outside_tile_count;   /* tiles other than 1001 that the UVs touch */
+    int outside_tiles[8];        /* the first of them, ascending */
+    double texel_size;           /* mean object-space footprint of a covered texel (model units) */
     size_t tiles;            /* images handed to the sink */
     int tile_udim[MESH_UDIM_MAX_TILES]; /* their UDIM numbers in order (1001 without udim) */
 } mesh_bake_stats;
-/* Receives each finished tile (3 channels, encoded 0.5 * m + 0.5), in UDIM
- * order; the image is freed after the call. A status other than BG_OK stops
- * the bake and is returned. */
-typedef bg_status (*mesh_bake_sink)(void *ctx, int udim, const bg_image *img, bgt_err *e);
-/* Rasterize the mesh in UV space, one tile after the other (tile (a, b)
- * holds u in [a, a + 1], v in [b, b + 1]; the tangent frames are computed once
- * from the unshifted UVs). `nx/ny/nz` are the unit vertex normals; `h` is
- * opened. BG_OK; BG_ERR_INVALID_ARGUMENT when a tile's memory exceeds the cap
- * (bgt_check_alloc) or the UVs span more than MESH_UDIM_MAX_TILES tiles;
- * BG_ERR_OUT_OF_MEMORY (also for more than INT32_MAX triangles); or the
- * sink's status; with a message in *e. */
-bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const float *nz,
-                    const bgt_height *h, const mesh_bake_opts *o, mesh_bake_sink sink,
-                    void *sink_ctx, mesh_bake_stats *stats, bgt_err *e);
-/* The bytes a W x H tile needs while baking (per-texel buffers + the image). */
-double mesh_bake_tile_bytes(int width, int height);
+/* The vertex normals of an OUT.glb / OUT.gltf. */
+typedef enum mesh_gltf_normals {
+    MESH_GLTF_NORMALS_AUTO = 0,     /* original with a baked map, else bumped */
+    MESH_GLTF_NORMALS_ORIGINAL = 1, /* the unbumped normals (the map carries the bump) */
+    MESH_GLTF_NORMALS_BUMPED = 2    /* the bumped normals; then no material uses the map */
+} mesh_gltf_normals;
+
+/* The units of --frequency and --amplitude (docs/MESH.md, "Scale"). */
+typedef enum mesh_units {
+    MESH_UNITS_MODEL = 0, /* per model radius: the height sees the model scaled into the unit
+                           * sphere (mesh_frames.h), as `render --mesh` does */
+    MESH_UNITS_FILE = 1   /* the file's own units */
+} mesh_units;
 
 /* ---- the whole job of `bumpgrad mesh` (mesh_job.c) ---- */
 typedef struct bgt_mesh_opts {
@@ -132,19 +107,9 @@ typedef struct bgt_mesh_opts {
                               * method and threads are taken from above */
     int bake_depth;          /* a bg_pixel_type, or -1: half for .exr, else 8 bits */
     const bgt_progress *progress; /* the bake's progress (texels), may be NULL */
+    int gltf_normals;        /* a mesh_gltf_normals */
+    int units;               /* a mesh_units */
 } bgt_mesh_opts;
-
-/* Mesh output formats, chosen by OUT's extension (case-insensitive); "-" and
- * a device (/dev/null, a FIFO) get PLY. */
-typedef enum mesh_out_format {
-    MESH_OUT_PLY = 0,
-    MESH_OUT_GLB = 1,  /* binary glTF 2.0 (mesh_gltf.c), TANGENT when IN has UVs */
-    MESH_OUT_GLTF = 2, /* glTF 2.0 with the buffer embedded */
-    MESH_OUT_OBJ = 3,  /* Wavefront OBJ without a material file (assimp's exporter) */
-    MESH_OUT_UNKNOWN = -1
-} mesh_out_format;
-mesh_out_format mesh_out_format_of(const char *path);
-const char *mesh_out_format_name(mesh_out_format f, int ascii);
 
 /* What `bumpgrad mesh` prints: the mesh, the normals, the perturbation
  * statistics (means over the vertices with a normal), the bake and the times. */
@@ -161,15 +126,19 @@ typedef struct bgt_mesh_result {
     double mean_compare, max_compare; /* surfgrad vs additive (or the chosen additive) */
     mesh_bake_stats bake;
     int threads;                 /* worker threads used */
+    const char *output_format;   /* OUT's format in words ("binary glTF 2.0", ...), or NULL */
+    double model_centre[3], model_radius; /* the model frame (file units) */
+    double unit;                 /* one height unit in file units: model_radius, or 1 */
+    double finest_feature, coarsest_feature; /* the height's finest and coarsest lattice
+                                  * cells, file units (0 for a VDB height) */
+    /* glTF output: */
+    int gltf_bumped_normals;     /* NORMAL holds the bumped normals */
+    int gltf_map;                /* 0: no material uses the map; 1: the normalTexture is the
+                                  * map's file; 2: an 8-bit PNG of it (embedded) */
+    const char *gltf_map_note;   /* why the map is not a normalTexture, or NULL */
+    size_t gltf_materials, gltf_textures, gltf_textures_dropped;
     double t_load, t_normals, t_perturb, t_bake, t_write; /* seconds */
 } bgt_mesh_result;
-
-/* The checks on the paths of `o` that bgt_mesh_run makes before anything else
- * (so a caller may make them before its own preparations, e.g. opening the
- * height): one file named for OUT.ply and the map; OUT.ply over a non-PLY
- * input; a map path that exists and is not a regular file. BG_OK or
- * BG_ERR_INVALID_ARGUMENT. */
-bg_status bgt_mesh_check(const bgt_mesh_opts *o, bgt_err *e);
 
 /* Load the mesh (bg_mesh_load_ex: the import child), take or compute unit
  * vertex normals, evaluate the height and perturb every normal (Mikkelsen 2010
