@@ -9,7 +9,8 @@
 #include "bumpgrad/volume.h"
 #include "common/tool.h"
 #include "height_source.h"
-#include "bake/bake.h"
+#include "bake/heightmap.h"
+#include "bake/volume.h"
 #include "mesh/mesh.h"
 
 static PyObject *raise_tool(bg_status s, const bgt_err *e)
