@@ -118,7 +118,7 @@ typedef struct cli_spec {
                                       .run = run_##NAME,                                           \
                                       __VA_ARGS__}
 
-enum { CLI_MAX_POSITIONAL = 4 };
+enum { CLI_MAX_POSITIONAL = 4096 }; /* volume --merge takes the bricks */
 
 /* Returned by cli_args_parse after printing --help on stdout. */
 enum { CLI_HELP = -1 };
