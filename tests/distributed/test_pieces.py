@@ -129,6 +129,43 @@ def udim_tiles(tmp):
     check(rc == 2 and "<UDIM>" in err, "--tile without <UDIM>: refused (%s)" % err.strip())
 
 
+def row_ranges(tmp):
+    rng = np.random.default_rng(5)
+    pts = os.path.join(tmp, "p.npy")
+    np.save(pts, rng.uniform(-30, 30, (10007, 3)))
+    pn = os.path.join(tmp, "pn.npy")
+    n = rng.normal(size=(10007, 3))
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    np.save(pn, np.concatenate([rng.uniform(-30, 30, (10007, 3)), n], axis=1).astype(np.float32))
+    for cmd, src, extra in [("eval", pts, ["--precision", "double", "--gradient", "analytic"]),
+                            ("eval", pts, []), ("perturb", pn, ["--octaves", "4"])]:
+        whole = os.path.join(tmp, "whole.npy")
+        rc, _, err = run(EXE, [cmd, "--quiet", "-i", src, "-o", whole] + extra)
+        check(rc == 0, "%s: the whole table (%s)" % (cmd, err.strip()))
+        parts = []
+        for k, r in enumerate([":3000", "3000:3000", "3000:7001", "7001:"]):
+            out = os.path.join(tmp, "part%d.npy" % k)
+            rc, _, err = run(EXE, [cmd, "--quiet", "-i", src, "-o", out, "--rows", r] + extra)
+            check(rc == 0, "%s --rows %s (%s)" % (cmd, r, err.strip()))
+            parts.append(np.load(out))
+        w = np.load(whole)
+        cat = np.concatenate(parts)
+        check(cat.dtype == w.dtype and cat.tobytes() == w.tobytes() and len(parts[1]) == 0,
+              "%s %s: four row ranges concatenated = the whole run, bit for bit" % (cmd, extra))
+    for r, want in [("5:3", "--rows"), ("0:10008", "10007 rows"), ("x:1", "--rows"),
+                    ("-1:3", "--rows"), ("3", "--rows")]:
+        rc, _, err = run(EXE, ["eval", "-i", pts, "-o", os.path.join(tmp, "bad.npy"), "--rows", r])
+        check(rc == 2 and want in err and not os.path.exists(os.path.join(tmp, "bad.npy")),
+              "--rows %s: refused (%s)" % (r, err.strip()))
+    csv = os.path.join(tmp, "p.csv")
+    with open(csv, "w") as f:
+        f.write("x,y,z\n1,2,3\n")
+    rc, _, err = run(EXE, ["eval", "-i", csv, "-o", os.path.join(tmp, "o.csv"), "--rows", "0:1"])
+    check(rc == 2 and ".npy" in err, "--rows on a CSV input: refused (%s)" % err.strip())
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    row_ranges(tmp)
 with tempfile.TemporaryDirectory() as tmp:
     volume_bricks(tmp)
     udim_tiles(tmp)
