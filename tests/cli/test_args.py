@@ -401,7 +401,7 @@ def render_mesh():
                                                               "(default surfgrad)",
                                                               "(default -5,4,3)",
                                                               "(default 0.06)"]),
-                                ("mesh", [], ["(default 4)", "(default tangent)",
+                                ("mesh", [], ["(default 16)", "(default tangent)",
                                               "(default mikktspace)", "(default +y)",
                                               "(default 0.1)"])):
         rc, out, err = run([c, "--help"])
