@@ -133,7 +133,14 @@ def _run(tasks, client):
     """Compute a list of delayed tasks on client (or Dask's default scheduler)."""
     if client is None:
         return list(_dask.compute(*tasks))
-    return client.gather(client.compute(tasks))
+    futures = client.compute(tasks)
+    try:
+        return client.gather(futures)
+    except BaseException:
+        # The first failure fails the job: stop the tasks still running, so
+        # that none writes into a folder the caller is about to remove.
+        client.cancel(futures)
+        raise
 
 
 def _bake_tile(mesh, size, path, tile, threads, kw):
@@ -203,7 +210,11 @@ def volume(bbox, voxel_size, path, *, bricks, client=None, threads=1, **kw):
                                                   dask_key_name=f"bumpgrad-merge-{tag}")
         return _run([merged], client)[0]
     finally:
-        for f in _os.listdir(parts) if _os.path.isdir(parts) else []:
-            _os.unlink(_os.path.join(parts, f))
-        if _os.path.isdir(parts):
+        # Bricks (and a killed writer's temporaries) go; a failure to remove
+        # them must not hide the job's own error.
+        try:
+            for f in _os.listdir(parts):
+                _os.unlink(_os.path.join(parts, f))
             _os.rmdir(parts)
+        except OSError:
+            pass
