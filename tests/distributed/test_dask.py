@@ -48,30 +48,34 @@ def in_thread(fn):
 
 
 def kill_mid_brick(client, tmp):
-    voxel = 0.0125  # 161^3 voxels in 4 bricks: about a second per brick
+    voxel = 0.01  # 201^3 voxels in 4 bricks: 2 M voxels, about a CPU second, per brick
     one = os.path.join(tmp, "one.vdb")
     bumpgrad.volume(BOX, voxel, one, **KW)
     out = os.path.join(tmp, "dist.vdb")
     t, box = in_thread(lambda: bgd.volume(BOX, voxel, out, bricks=4, client=client, **KW))
-    victim = key = None
-    for _ in range(600):  # until a brick task is running (at most 60 s)
-        for w, keys in client.processing().items():
-            bricks = [k for k in keys if str(k).startswith("bumpgrad-brick-")]
+    victim = key = pid = None
+    for _ in range(600):  # until a worker executes a brick (at most 60 s)
+        state = client.run(lambda dask_worker: (os.getpid(), [
+            str(ts.key) for ts in dask_worker.state.executing]))
+        for w, (wpid, keys) in state.items():
+            bricks = [k for k in keys if k.startswith("bumpgrad-brick-")]
             if bricks:
-                victim, key = w, bricks[0]
+                victim, key, pid = w, bricks[0], wpid
                 break
         if victim:
             break
         time.sleep(0.1)
-    check(victim is not None, "a brick task runs on a worker (%s)" % key)
+    check(victim is not None, "a worker executes a brick task (%s)" % key)
     if victim is None:
         t.join(300)
         return
-    time.sleep(0.3)  # into the brick's bake
-    pid = client.run(os.getpid, workers=[victim])[victim]
-    i = int(str(key).split("-")[2])
+    time.sleep(0.1)  # into the brick's bake
+    i = int(key.split("-")[2])
     folder = glob.glob(os.path.join(tmp, ".dist.vdb.bricks-*"))
+    running = key in client.run(lambda dask_worker: [
+        str(ts.key) for ts in dask_worker.state.executing], workers=[victim])[victim]
     os.kill(pid, signal.SIGKILL)
+    check(running, "brick %d was still being baked when its worker was killed" % i)
     time.sleep(0.2)
     final = os.path.join(folder[0], "brick%d.vdb" % i) if folder else None
     check(final is not None and not os.path.exists(final),

@@ -87,7 +87,8 @@ static bg_status check_opts(const bgt_volume_opts *o, bgt_err *e)
     if (strcmp(o->output, "-") == 0)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         "--output: a VDB file cannot go to standard output (\"-\")");
-    if (o->bricks < 0 || o->bricks > 1000000 || (o->bricks > 1 && (o->brick < 0 || o->brick >= o->bricks)))
+    if (o->bricks < 0 || o->bricks > 1000000 ||
+        (o->bricks > 1 && (o->brick < 0 || o->brick >= o->bricks)))
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         "--brick: I/N needs 1 <= N <= 1000000 and 0 <= I < N, got %d/%d", o->brick,
                         o->bricks);
