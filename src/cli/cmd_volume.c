@@ -155,7 +155,7 @@ CLI_SPEC(volume,
     .summary = "bake a height function and its gradient into an OpenVDB file",
     .usage = "[--bbox X0,Y0,Z0,X1,Y1,Z1] [--voxel-size S] [height options]\n"
              "[--band-sphere CX,CY,CZ,R,W] [--brick I/N] --output FILE.vdb\n"
-             "       bumpgrad volume --merge OUT.vdb BRICK.vdb...",
+             "--merge OUT.vdb BRICK.vdb...",
     .max_positional = CLI_MAX_POSITIONAL,
     .about = "Bake the height h(p) and its gradient into an OpenVDB file: a FloatGrid\n"
              "\"height\" and a Vec3SGrid \"gradient\" (world units, covariant). Voxel\n"
