@@ -112,7 +112,7 @@ def udim_tiles(tmp):
         rc, _, err = run(EXE, args + ["--bake-normal-map", os.path.join(one, "n.<UDIM>.exr"),
                                       "--tile", str(t)])
         name = "n.%d.exr" % t
-        check(rc == 0 and name in os.listdir(one), "--tile %d writes %s (%s)" % (t, name, err))
+        check(rc == 0 and name in os.listdir(one), "--tile %d writes %s (%s)" % (t, name, err.strip()))
         a = bumpgrad.read_image(os.path.join(full, name))
         b = bumpgrad.read_image(os.path.join(one, name))
         check(a.shape == b.shape and a.tobytes() == b.tobytes() and np.ptp(a) > 0,
@@ -127,6 +127,47 @@ def udim_tiles(tmp):
     rc, _, err = run(EXE, args + ["--bake-normal-map", os.path.join(one, "n.exr"), "--tile",
                                   "1001"])
     check(rc == 2 and "<UDIM>" in err, "--tile without <UDIM>: refused (%s)" % err.strip())
+    # The same through Python: bake_normal_map(tile=) and its argument checks.
+    arr = bumpgrad.bake_normal_map(src, (32, 16), udim=True, tile=1011, function="fbm",
+                                   octaves=5, frequency=6.0, padding=16)
+    ref = bumpgrad.read_image(os.path.join(full, "n.1011.exr"))
+    check(list(arr) == [1011] and arr[1011].tobytes() == ref.tobytes(),
+          "bake_normal_map(tile=1011) = the CLI's full bake's tile 1011")
+    for bad, kind in [(999, ValueError), (1011.0, TypeError)]:
+        try:
+            bumpgrad.bake_normal_map(src, 8, udim=True, tile=bad)
+            got = None
+        except Exception as e:  # noqa: BLE001
+            got = e
+        check(isinstance(got, kind) and "tile" in str(got), "tile=%r: %r" % (bad, got))
+
+
+def python_bricks(tmp):
+    import bumpgrad
+    box = (-0.5, -0.5, -0.5, 0.5, 0.5, 0.5)
+    one = os.path.join(tmp, "one.vdb")
+    bumpgrad.volume(box, 0.05, one, function="fbm")
+    parts = [os.path.join(tmp, "p%d.vdb" % i) for i in range(3)]
+    for i, b in enumerate(parts):
+        bumpgrad.volume(box, 0.05, b, function="fbm", brick=(i, 3))
+    merged = os.path.join(tmp, "merged.vdb")
+    bumpgrad.merge_volumes(merged, parts)
+    check(vdb_same(one, merged), "volume(brick=) + merge_volumes = volume(), byte for byte")
+    for kw, kind in [(dict(brick=(3, 3)), ValueError), (dict(brick=3), TypeError)]:
+        try:
+            bumpgrad.volume(box, 0.05, os.path.join(tmp, "x.vdb"), **kw)
+            got = None
+        except Exception as e:  # noqa: BLE001
+            got = e
+        check(isinstance(got, kind) and "brick" in str(got), "%r: %r" % (kw, got))
+    try:
+        bumpgrad.merge_volumes(os.path.join(tmp, "x.vdb"), [parts[0], parts[0]])
+        got = None
+    except Exception as e:  # noqa: BLE001
+        got = e
+    check(isinstance(got, bumpgrad.Error) and "overlap" in str(got)
+          and not os.path.exists(os.path.join(tmp, "x.vdb")),
+          "merge_volumes of a brick twice: bumpgrad.Error (%s)" % got)
 
 
 def row_ranges(tmp):
@@ -169,4 +210,6 @@ with tempfile.TemporaryDirectory() as tmp:
 with tempfile.TemporaryDirectory() as tmp:
     volume_bricks(tmp)
     udim_tiles(tmp)
+with tempfile.TemporaryDirectory() as tmp:
+    python_bricks(tmp)
 sys.exit(finish("distributed_pieces"))
