@@ -31,6 +31,11 @@ typedef struct bg_mesh_material {
     char *diffuse; /**< first aiTextureType_DIFFUSE (OBJ map_Kd) */
     char *height;  /**< first aiTextureType_HEIGHT (OBJ map_bump/bump), else DISPLACEMENT */
     char *normal;  /**< first aiTextureType_NORMALS (OBJ norm) */
+    /** The base colour factor (glTF baseColorFactor, else the diffuse colour:
+     *  OBJ Kd), RGBA as the file stores it, each finite; valid when
+     *  has_base_color. */
+    float base_color[4];
+    int has_base_color;
 } bg_mesh_material;
 
 /** An indexed triangle mesh. All arrays are owned (free with bg_mesh_free). */

@@ -86,6 +86,85 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
     cli_json_end(&j);
 }
 
+/* The summary as text: the mesh, normals, perturbation, bake, scale, glTF
+ * and times. */
+static void print_text(FILE *fp, const bgt_mesh_opts *o, int units, const bgt_mesh_result *r)
+{
+    const char *in_path = o->input, *out_path = o->output, *bake_path = o->bake_path;
+    const bg_perturb_method method = o->method;
+    const mesh_bake_opts bake = o->bake;
+    fprintf(fp, "mesh: %s: %zu vertices, %zu triangles (%zu scene meshes", in_path,
+            r->vertex_count, r->triangle_count, r->mesh_count);
+    if (r->dropped_primitives)
+        fprintf(fp, ", %zu points/lines dropped", r->dropped_primitives);
+    fprintf(fp, ")\n");
+    fprintf(fp, "normals: %s; %zu vertices without a normal (sentinel 0,0,0)\n",
+            r->file_normals ? "from the file" : "angle-weighted (computed)", r->no_normal);
+    fprintf(fp, "degenerate: %zu unusable triangles (zero area, repeated index or NaN/Inf "
+                "corner), %zu vertices with NaN/Inf position\n",
+            r->unusable_triangles, r->nonfinite_positions);
+    fprintf(fp, "height: mean %.6g over %zu vertices (%zu non-finite)\n", r->mean_height,
+            r->finite_height, r->nonfinite_height);
+    fprintf(fp, "perturbation (%s): mean %.4f deg, max %.4f deg\n", cli_method_name(method),
+            r->mean_angle, r->max_angle);
+    double valid = r->valid ? (double)r->valid : 1.0;
+    fprintf(fp, "inward (dot(n', n) <= 0): surfgrad %zu (%.4f%%), %s %zu (%.4f%%)\n",
+            r->inward_surf, 100.0 * (double)r->inward_surf / valid,
+            method == BG_PERTURB_SURFGRAD ? "additive" : cli_method_name(method),
+            r->inward_other, 100.0 * (double)r->inward_other / valid);
+    fprintf(fp, "surfgrad vs additive: mean %.4f deg, max %.4f deg\n", r->mean_compare,
+            r->max_compare);
+    if (bake_path)
+        fprintf(fp, "bake: %s %dx%d %s space, %zu texels covered, %zu padded, %zu "
+                    "triangles skipped (degenerate or zero UV area)\n",
+                bake_path, bake.width, bake.height,
+                bake.space == MESH_BAKE_TANGENT ? "tangent" : "object", r->bake.covered,
+                r->bake.padded, r->bake.skipped);
+    fprintf(fp, "scale: %s; model radius %.6g file units, mean edge %.4g; height features "
+                "from %.4g down to %.4g file units",
+            r->unit == 1.0 && units == MESH_UNITS_FILE ? "--units file" : "--units model",
+            r->model_radius, r->mean_edge, r->coarsest_feature, r->finest_feature);
+    if (bake_path)
+        fprintf(fp, "; a texel spans %.4g file units on the surface (mean)",
+                r->bake.texel_size * r->unit);
+    fprintf(fp, "\n");
+    if (bake_path && bake.space == MESH_BAKE_TANGENT && bake.tangents == MESH_TANGENTS_FILE)
+        fprintf(fp, "tangents: from the file, green %s\n", bake.green_down ? "-y" : "+y");
+    else if (bake_path && bake.space == MESH_BAKE_TANGENT)
+        fprintf(fp, "tangents: mikkTSpace, %zu welded vertices, %zu fans, %zu degenerate and "
+                    "%zu zero-UV-area triangles, %zu corners without a fan; green %s\n",
+                r->bake.mikk.welded_vertices, r->bake.mikk.fans, r->bake.mikk.degenerate,
+                r->bake.mikk.zero_uv_area, r->bake.mikk.unreached,
+                bake.green_down ? "-y" : "+y");
+    if (bake_path)
+        fprintf(fp, "UV islands: %zu, %zu of them in overlaps (%zu texels strictly inside two "
+                    "or more triangles; the later triangle wins)%s\n",
+                r->bake.islands, r->bake.overlap_islands, r->bake.overlap_texels,
+                r->bake.overlap_islands ? " WARNING: overlapping UVs" : "");
+    if (bake_path && strstr(bake_path, MESH_UDIM_TOKEN)) {
+        fprintf(fp, "%zu tiles written:", r->bake.tiles);
+        for (size_t k = 0; k < r->bake.tiles; k++)
+            fprintf(fp, "%s %d", k ? "," : "", r->bake.tile_udim[k]);
+        fprintf(fp, "\n");
+    }
+    if (out_path)
+        fprintf(fp, "wrote %s (%s)\n", out_path,
+                r->output_format);
+    if (out_path && r->gltf_materials + r->gltf_bumped_normals + r->gltf_map)
+        fprintf(fp, "glTF: %s normals, %zu materials, %zu base colour textures kept (%zu left "
+                    "out: not PNG/JPEG or not found), normalTexture: %s\n",
+                r->gltf_bumped_normals ? "bumped" : "original", r->gltf_materials,
+                r->gltf_textures, r->gltf_textures_dropped,
+                r->gltf_map == 2 ? "the map as an embedded 8-bit PNG"
+                : r->gltf_map    ? "the map"
+                                : "none");
+    if (out_path && r->gltf_map_note)
+        fprintf(fp, "glTF: %s\n", r->gltf_map_note);
+    fprintf(fp, "time: load %.3f s, normals %.3f s, height+perturb %.3f s (%d threads), "
+                "bake %.3f s, write %.3f s\n",
+            r->t_load, r->t_normals, r->t_perturb, r->threads, r->t_bake, r->t_write);
+}
+
 typedef struct mesh_args {
     const char *bake_path, *format;
     int method, compare, ascii, recompute, json, threads, join, bake_depth, gltf_normals, units;
@@ -258,8 +337,10 @@ CLI_SPEC(mesh,
             "\n"
             "Outputs are written to temporary files and renamed into place only when\n"
             "everything succeeded. Exit status: 0 success, 1 I/O failure or out of\n"
-            "memory, 2 bad input (missing, corrupt or empty mesh; bake without UVs) or\n"
-            "usage.\n"
+            "memory, 2 bad input (missing, corrupt or empty mesh; bake without UVs;\n"
+            "nothing to bake) or usage. Warnings (stderr, also with --quiet): UVs\n"
+            "outside the unit square without <UDIM>, a bump finer than a texel or\n"
+            "coarser than the model.\n"
             "\n"
             "Examples:\n"
             "  bumpgrad mesh --compare model.obj bumped.ply\n"
@@ -342,76 +423,7 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                            (bake_path && strcmp(bake_path, "-") == 0)
                        ? stderr
                        : stdout;
-        fprintf(fp, "mesh: %s: %zu vertices, %zu triangles (%zu scene meshes", in_path,
-                r.vertex_count, r.triangle_count, r.mesh_count);
-        if (r.dropped_primitives)
-            fprintf(fp, ", %zu points/lines dropped", r.dropped_primitives);
-        fprintf(fp, ")\n");
-        fprintf(fp, "normals: %s; %zu vertices without a normal (sentinel 0,0,0)\n",
-                r.file_normals ? "from the file" : "angle-weighted (computed)", r.no_normal);
-        fprintf(fp, "degenerate: %zu unusable triangles (zero area, repeated index or NaN/Inf "
-                    "corner), %zu vertices with NaN/Inf position\n",
-                r.unusable_triangles, r.nonfinite_positions);
-        fprintf(fp, "height: mean %.6g over %zu vertices (%zu non-finite)\n", r.mean_height,
-                r.finite_height, r.nonfinite_height);
-        fprintf(fp, "perturbation (%s): mean %.4f deg, max %.4f deg\n", cli_method_name(method),
-                r.mean_angle, r.max_angle);
-        double valid = r.valid ? (double)r.valid : 1.0;
-        fprintf(fp, "inward (dot(n', n) <= 0): surfgrad %zu (%.4f%%), %s %zu (%.4f%%)\n",
-                r.inward_surf, 100.0 * (double)r.inward_surf / valid,
-                method == BG_PERTURB_SURFGRAD ? "additive" : cli_method_name(method),
-                r.inward_other, 100.0 * (double)r.inward_other / valid);
-        fprintf(fp, "surfgrad vs additive: mean %.4f deg, max %.4f deg\n", r.mean_compare,
-                r.max_compare);
-        if (bake_path)
-            fprintf(fp, "bake: %s %dx%d %s space, %zu texels covered, %zu padded, %zu "
-                        "triangles skipped (degenerate or zero UV area)\n",
-                    bake_path, bake.width, bake.height,
-                    bake.space == MESH_BAKE_TANGENT ? "tangent" : "object", r.bake.covered,
-                    r.bake.padded, r.bake.skipped);
-        fprintf(fp, "scale: %s; model radius %.6g file units; height features from %.4g down to "
-                    "%.4g file units",
-                r.unit == 1.0 && a.units == MESH_UNITS_FILE ? "--units file" : "--units model",
-                r.model_radius, r.coarsest_feature, r.finest_feature);
-        if (bake_path)
-            fprintf(fp, "; a texel spans %.4g file units on the surface (mean)",
-                    r.bake.texel_size * r.unit);
-        fprintf(fp, "\n");
-        if (bake_path && bake.space == MESH_BAKE_TANGENT && bake.tangents == MESH_TANGENTS_FILE)
-            fprintf(fp, "tangents: from the file, green %s\n", bake.green_down ? "-y" : "+y");
-        else if (bake_path && bake.space == MESH_BAKE_TANGENT)
-            fprintf(fp, "tangents: mikkTSpace, %zu welded vertices, %zu fans, %zu degenerate and "
-                        "%zu zero-UV-area triangles, %zu corners without a fan; green %s\n",
-                    r.bake.mikk.welded_vertices, r.bake.mikk.fans, r.bake.mikk.degenerate,
-                    r.bake.mikk.zero_uv_area, r.bake.mikk.unreached,
-                    bake.green_down ? "-y" : "+y");
-        if (bake_path)
-            fprintf(fp, "UV islands: %zu, %zu of them in overlaps (%zu texels strictly inside two "
-                        "or more triangles; the later triangle wins)%s\n",
-                    r.bake.islands, r.bake.overlap_islands, r.bake.overlap_texels,
-                    r.bake.overlap_islands ? " WARNING: overlapping UVs" : "");
-        if (bake_path && strstr(bake_path, MESH_UDIM_TOKEN)) {
-            fprintf(fp, "%zu tiles written:", r.bake.tiles);
-            for (size_t k = 0; k < r.bake.tiles; k++)
-                fprintf(fp, "%s %d", k ? "," : "", r.bake.tile_udim[k]);
-            fprintf(fp, "\n");
-        }
-        if (out_path)
-            fprintf(fp, "wrote %s (%s)\n", out_path,
-                    r.output_format);
-        if (out_path && r.gltf_materials + r.gltf_bumped_normals + r.gltf_map)
-            fprintf(fp, "glTF: %s normals, %zu materials, %zu base colour textures kept (%zu left "
-                        "out: not PNG/JPEG or not found), normalTexture: %s\n",
-                    r.gltf_bumped_normals ? "bumped" : "original", r.gltf_materials,
-                    r.gltf_textures, r.gltf_textures_dropped,
-                    r.gltf_map == 2 ? "the map as an embedded 8-bit PNG"
-                    : r.gltf_map    ? "the map"
-                                    : "none");
-        if (out_path && r.gltf_map_note)
-            fprintf(fp, "glTF: %s\n", r.gltf_map_note);
-        fprintf(fp, "time: load %.3f s, normals %.3f s, height+perturb %.3f s (%d threads), "
-                    "bake %.3f s, write %.3f s\n",
-                r.t_load, r.t_normals, r.t_perturb, r.threads, r.t_bake, r.t_write);
+        print_text(fp, &opts, a.units, &r);
     }
     return CLI_OK;
 }

@@ -191,6 +191,15 @@ bg_status read_materials(const aiScene *scene, const char *path, bg_mesh &m, cha
                 s[2] = texture_path(scene, mat, aiTextureType_DISPLACEMENT, dir,
                                     m.embedded_textures);
             s[3] = texture_path(scene, mat, aiTextureType_NORMALS, dir, m.embedded_textures);
+            aiColor4D c;
+            if (aiGetMaterialColor(mat, AI_MATKEY_BASE_COLOR, &c) == AI_SUCCESS ||
+                aiGetMaterialColor(mat, AI_MATKEY_COLOR_DIFFUSE, &c) == AI_SUCCESS) {
+                const float v[4] = {c.r, c.g, c.b, c.a};
+                mm.has_base_color = std::isfinite(v[0]) && std::isfinite(v[1]) &&
+                                    std::isfinite(v[2]) && std::isfinite(v[3]);
+                if (mm.has_base_color)
+                    std::memcpy(mm.base_color, v, sizeof v);
+            }
         }
         const auto dst = material_strings(mm);
         for (int i = 0; i < 4; ++i) {
@@ -594,6 +603,12 @@ size_t child_memory_cap(const char *path)
             const uint32_t len = *str ? static_cast<uint32_t>(std::strlen(*str)) : UINT32_MAX;
             ok = write_all(fd, &len, sizeof len) && (!*str || write_all(fd, *str, len));
         }
+    // Then each material's base colour: the flag (int32) and 4 floats.
+    for (size_t k = 0; ok && k < m.material_count; ++k) {
+        const int32_t has = m.materials[k].has_base_color;
+        ok = write_all(fd, &has, sizeof has) &&
+             write_all(fd, m.materials[k].base_color, sizeof m.materials[k].base_color);
+    }
     // _exit: no atexit handlers or stdio flushes of the parent's state.
     _exit(ok ? 0 : 1);
 }
@@ -636,6 +651,15 @@ int read_wire_materials(int fd, const wire_header &h, bg_mesh &m, bool &got)
             // a NUL inside would cut the string short silently: refuse the stream
             got = got && std::memchr(*str, 0, len) == nullptr;
         }
+    for (size_t k = 0; got && k < m.material_count; ++k) {
+        bg_mesh_material &mm = m.materials[k];
+        int32_t has = 0;
+        got = read_all(fd, &has, sizeof has) && read_all(fd, mm.base_color, sizeof mm.base_color);
+        got = got && (has == 0 || has == 1);
+        for (int i = 0; got && i < 4; ++i)
+            got = !has || std::isfinite(mm.base_color[i]);
+        mm.has_base_color = got && has;
+    }
     return BG_OK;
 }
 

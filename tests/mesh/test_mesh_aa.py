@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from make_cubesphere import cubesphere, write_obj  # noqa: E402
 from gltf_read import Gltf  # noqa: E402

@@ -18,6 +18,7 @@ import tempfile
 
 import numpy as np
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from gltf_read import Gltf  # noqa: E402
 
@@ -207,6 +208,19 @@ def main():
             jpg = [g.image_bytes(g.json["textures"][m["pbrMetallicRoughness"]
                                                     ["baseColorTexture"]["index"]]["source"])
                    for m in with_tex]
+            kd = {}
+            name = None
+            for line in open(os.path.join(MODELS, "OBJ", "spider.mtl")):
+                w = line.split()
+                if w[:1] == ["newmtl"]:
+                    name = w[1]
+                elif w[:1] == ["Kd"]:
+                    kd[name] = [float(x) for x in w[1:4]]
+            got = {m.get("name"): m["pbrMetallicRoughness"].get("baseColorFactor")
+                   for m in g.json["materials"]}
+            check(all(got.get(k) is not None and np.allclose(got[k][:3], v, atol=1e-6)
+                      for k, v in kd.items()),
+                  "spider: every material's Kd of spider.mtl is its baseColorFactor")
             orig = open(os.path.join(MODELS, "OBJ", "SpiderTex.jpg"), "rb").read()
             check(any(d == orig for d, _ in jpg), "spider: SpiderTex.jpg embedded byte for byte")
         model(tmp, "duck", duck)

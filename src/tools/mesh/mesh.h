@@ -134,6 +134,7 @@ typedef struct bgt_mesh_result {
     double unit;                 /* one height unit in file units: model_radius, or 1 */
     double finest_feature, coarsest_feature; /* the height's finest and coarsest lattice
                                   * cells, file units (0 for a VDB height) */
+    double mean_edge;            /* mean edge length of the usable triangles, file units */
     /* glTF output: */
     int gltf_bumped_normals;     /* NORMAL holds the bumped normals */
     int gltf_map;                /* 0: no material uses the map; 1: the normalTexture is the

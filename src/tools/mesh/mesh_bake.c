@@ -5,8 +5,13 @@
  * position and vertex normal are interpolated with them, the solid height's
  * gradient is evaluated at that position and the interpolated normal is
  * perturbed with Listing 3 (Mikkelsen 2010): n' = normalize(n - grad_S h).
- * No derivative of the UV map enters the perturbation; UVs only say where the
- * result is stored and, for tangent space, in which frame it is expressed.
+ * By default the height is band-limited to the texel's footprint on the
+ * surface (its triangle's UV Jacobian gives the object-space size of a texel;
+ * bg_perturb_height_footprint_batch fades out the octaves finer than that)
+ * and taken at N x N stratified points of the texel whose normals are
+ * averaged (docs/MESH.md, "Anti-aliasing"). No derivative of the UV map
+ * enters the perturbation itself; UVs say where the result is stored, how
+ * large a texel is and, for tangent space, in which frame it is expressed.
  *
  * Tangent space follows the mikkTSpace decoding convention: a renderer
  * interpolates the per-corner tangent t (bgt_mikk_tangents, or the file's),
@@ -649,7 +654,13 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     if (o->samples < 0 || o->samples > MESH_MAX_SAMPLES)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "samples %d: expected 1..%d per axis",
                         o->samples, MESH_MAX_SAMPLES);
-    bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H), "the bake buffers", e);
+    /* the tile's buffers, and each worker's samples of one chunk of rows
+     * (at least one row: W x N^2 samples of 10 floats) */
+    const double ns = (double)(o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES);
+    const double chunk = fmax(16384.0, (double)W * ns * ns);
+    bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H) +
+                                       (double)(o->threads > 0 ? o->threads : 1) * chunk * 40.0,
+                                   "the bake buffers", e);
     if (rc != BG_OK)
         return rc;
     int tiles[MESH_UDIM_MAX_TILES];

@@ -263,6 +263,13 @@ bg_status mesh_gltf_scene_build(mesh_gltf_scene *sc, const char *mesh_path, cons
         g->name = i < m->material_count ? m->materials[i].name : "bumpgrad";
         g->normal_image = map_image;
         g->base_color_image = -1;
+        if (i < m->material_count && m->materials[i].has_base_color) {
+            g->has_base_color = 1;
+            for (int k = 0; k < 4; k++) { /* glTF: each in [0, 1] */
+                float v = m->materials[i].base_color[k];
+                g->base_color[k] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+            }
+        }
         if (i < m->material_count) {
             int k = add_base_color(sc, mesh_path, m, i, out_path, binary);
             if (k == -2)

@@ -448,11 +448,27 @@ static bg_status load_mesh(const bgt_mesh_opts *o, bg_mesh *m, bgt_err *e)
     return BG_OK;
 }
 
-/* The triangles the perturbation cannot use and the non-finite positions. */
+/* The triangles the perturbation cannot use, the non-finite positions and
+ * the mean edge length of the usable triangles. */
 static void count_defects(const bg_mesh *m, bgt_mesh_result *r)
 {
-    for (size_t t = 0; t < m->triangle_count; t++)
-        r->unusable_triangles += (size_t)!mesh_triangle_usable(m, t);
+    double sum = 0.0;
+    size_t n = 0;
+    for (size_t t = 0; t < m->triangle_count; t++) {
+        if (!mesh_triangle_usable(m, t)) {
+            r->unusable_triangles++;
+            continue;
+        }
+        const uint32_t *ix = m->indices + 3 * t;
+        for (int k = 0; k < 3; k++) {
+            uint32_t a = ix[k], b = ix[(k + 1) % 3];
+            double dx = (double)m->px[a] - m->px[b], dy = (double)m->py[a] - m->py[b];
+            double dz = (double)m->pz[a] - m->pz[b];
+            sum += sqrt(dx * dx + dy * dy + dz * dz);
+            n++;
+        }
+    }
+    r->mean_edge = n ? sum / (double)n : 0.0;
     for (size_t i = 0; i < m->vertex_count; i++)
         r->nonfinite_positions +=
             (size_t)!(isfinite(m->px[i]) && isfinite(m->py[i]) && isfinite(m->pz[i]));
