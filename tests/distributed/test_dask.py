@@ -111,6 +111,21 @@ def bad_input(client, tmp):
           and not glob.glob(os.path.join(tmp, ".v.vdb.bricks-*")), "nothing left of the failed job")
 
 
+def arrays_back(client, tmp):
+    """bake_udim without a path: the tiles come back as arrays, the bits of
+    one bake_normal_map(udim=True)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "examples", "distributed"))
+    from udim import three_tile_mesh
+    mesh = os.path.join(tmp, "tiles.obj")
+    tiles = three_tile_mesh(mesh)
+    got = bgd.bake_udim(mesh, 48, tiles=tiles, client=client, function="fbm", frequency=5.0)
+    ref = bumpgrad.bake_normal_map(mesh, 48, udim=True, function="fbm", frequency=5.0)
+    check(sorted(got) == sorted(ref) == tiles
+          and all(got[t].tobytes() == ref[t].tobytes() for t in tiles),
+          "bake_udim(path=None): the arrays of bake_normal_map(udim=True), bit for bit")
+
+
 def default_scheduler():
     p = np.random.default_rng(3).uniform(-20, 20, (5001, 3)).astype(np.float32)
     dp = da.from_array(p, chunks=(700, 3))
@@ -132,6 +147,7 @@ def main():
         os.mkdir(d1)
         os.mkdir(d2)
         kill_mid_brick(client, d1)
+        arrays_back(client, d2)
         bad_input(client, d2)
     return finish("distributed_dask")
 
