@@ -61,6 +61,17 @@ BG_API bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, c
 
 BG_API void bg_vdb_writer_free(bg_vdb_writer *w);
 
+/** Merge the grids of `n` VDB files baked on one voxel lattice (bricks of one
+ *  volume, e.g. from `bumpgrad volume --brick I/N`) into `output`, with
+ *  OpenVDB's tree merge (Tree::merge, MERGE_ACTIVE_STATES). Every file must
+ *  hold the same grids (name and type) with the same transform and the same
+ *  "bumpgrad:height" metadata, and the bricks must not share an active voxel
+ *  (BG_ERR_INVALID_ARGUMENT: "the bricks overlap"). Each input is checked as
+ *  bg_vdb_height_open checks a file; the output is written through a temporary
+ *  renamed into place. BG_ERR_IO / BG_ERR_FORMAT with a message naming the file. */
+BG_API bg_status bg_vdb_merge(const char *const *inputs, size_t n, const char *output, char *err,
+                              size_t errlen);
+
 /* ---- reading ------------------------------------------------------------- */
 
 /** An opened FloatGrid used as a height field; opaque, immutable after open. */

@@ -47,7 +47,7 @@ __all__ = [
     "resolve_normal", "surfgrad_from_tangent_normal", "surfgrad_from_perturbed_normal",
     "triplanar_weights", "surfgrad_triplanar", "isa_best", "isa_active", "isa_force",
     "DEFAULT_OCTAVES", "DEFAULT_CENTRAL_STEP", "MAX_OCTAVES", "MAX_PERIOD", "HAVE_TOOLS",
-    "bake_normal_map", "heightmap", "volume", "render", "read_image", "write_image",
+    "bake_normal_map", "heightmap", "volume", "render", "merge_volumes", "read_image", "write_image",
     # deprecated float64 aliases (use dtype=numpy.float64)
     "noise3d", "fbm3d", "turbulence3d", "fractal3d", "surface_gradientd", "perturbd",
     "resolve_normald", "surfgrad_from_tangent_normald", "surfgrad_from_perturbed_normald",
@@ -900,7 +900,8 @@ def heightmap(image, path=None, *, strength=1.0, edge="clamp", normal_map_y="+y"
 def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulence",
            octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, amplitude=0.1, frequency=1.0,
            gradient="analytic", step=DEFAULT_CENTRAL_STEP, period=None, seed=0, threads=None,
-           progress=None):
+           progress=None,
+           brick=None):
     """The tool behind ``bumpgrad volume`` (bgt_volume_run): the height field
     h(p) = amplitude F(frequency p) baked at the voxel centres S (i, j, k) inside
     the box, for any sub-box (docs/IO.md describes the file).
@@ -920,6 +921,8 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
     band_sphere (cx, cy, cz, r, w): only the voxels with | |p - c| - r | <= w.
     function ... step, period, seed: the height field, as perturb_height; threads, progress
                (progress(done, total) in rows of voxels) as bake_normal_map.
+    brick      None, or (i, n) with path=: write only brick i (0 <= i < n) of n,
+               as ``bumpgrad volume --brick i/n``; merge_volumes joins them.
     Raises bumpgrad.Error with the tool's message. Tools builds only.
 
     >>> h, g, lo = volume((0, 0, 0, 1, 1, 1), 0.5, amplitude=0.0)
@@ -955,9 +958,20 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable or None, got {progress!r}")
 
+    bi, bn = 0, 0
+    if brick is not None:
+        if path is None:
+            raise ValueError("brick needs path=: a brick is a file to merge")
+        try:
+            bi, bn = brick
+        except (TypeError, ValueError):
+            raise TypeError(f"brick must be (i, n), got {brick!r}") from None
+        bn = _int_arg("brick[1]", bn, 1, 1000000)
+        bi = _int_arg("brick[0]", bi, 0, bn - 1)
+
     def run(target):
         return _c.volume_bake(target, *box, voxel, band, fn, octaves, lacunarity, gain,
-                              amplitude, frequency, step, grad, nt, progress, *dom)
+                              amplitude, frequency, step, grad, nt, progress, *dom, bi, bn)
 
     if path is not None:
         return run(_os.fsdecode(path))
@@ -977,12 +991,33 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
             tuple(lo))
 
 
+def merge_volumes(path, bricks):
+    """Merge the brick files of one volume (volume(..., brick=(i, n)) or
+    ``bumpgrad volume --brick I/N``) into the VDB file `path`, as ``bumpgrad
+    volume --merge``: OpenVDB's tree merge, the bricks checked to hold the same
+    grids, voxel size and height parameters and no common voxel; the result is
+    the single-run volume voxel for voxel. Written through a temporary file.
+    Raises bumpgrad.Error naming the bad brick. Tools builds only.
+
+    >>> merge_volumes("/tmp/out.vdb", ["/no/such/brick.vdb"])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    bumpgrad.Error: ...
+    """
+    _need_tools("merge_volumes")
+    files = [_os.fsdecode(b) for b in bricks]
+    if not files:
+        raise ValueError("bricks must name at least one file")
+    _c.vdb_merge(_os.fsdecode(path), files)
+    return None
+
+
 def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
                     octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, amplitude=0.1,
                     frequency=1.0, gradient="analytic", step=DEFAULT_CENTRAL_STEP,
                     method="surfgrad", space="tangent", padding=4, tangents="mikktspace",
                     normal_map_y="+y", recompute_normals=False, depth=None, udim=False,
-                    period=None, seed=0, threads=None, progress=None):
+                    period=None, seed=0, threads=None, progress=None, tile=None):
     """Bake the normal map of a mesh bumped by a solid height field: the tool
     behind ``bumpgrad mesh --bake-normal-map`` (bgt_mesh_run), with the CLI's
     options as keyword arguments (docs/MESH.md).
@@ -1001,6 +1036,9 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     padding    dilate into empty texels this many times (integer >= 0).
     depth      None (the tool's default for the file type), 8, 16, 'half' or 'float'.
     threads    worker threads (default: all cores).
+    tile       None, or one UDIM number (1001..1999) with udim=True or a path
+               holding <UDIM>: bake that tile alone, texel for texel the full
+               bake's tile (``bumpgrad mesh --tile``; one job per tile).
     progress   None, or a callable progress(done, total) called with texel
                counts about 100 times during the bake (from the bake's threads).
     Raises bumpgrad.Error with the tool's message (missing mesh, no UVs, a map
@@ -1040,10 +1078,12 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     if not isinstance(recompute_normals, (bool, _np.bool_)):
         raise TypeError(f"recompute_normals must be True or False, got {recompute_normals!r}")
 
+    only = 0 if tile is None else _int_arg("tile", tile, 1001, 1999)
+
     def run(target, depth_code):
         return _c.mesh_bake(mesh_path, target, w, h, fn, octaves, lacunarity, gain, amplitude,
                             frequency, step, grad, m, sp, padding, tg, gy,
-                            int(bool(recompute_normals)), depth_code, nt, progress, *dom)
+                            int(bool(recompute_normals)), depth_code, nt, progress, *dom, only)
 
     if path is not None:
         return run(_os.fsdecode(path), dp)[4]

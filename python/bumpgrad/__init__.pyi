@@ -126,7 +126,8 @@ def bake_normal_map(mesh_path: Union[str, "os.PathLike[str]"], size: Union[int, 
                     normal_map_y: Literal["+y", "-y"] = ..., recompute_normals: bool = ...,
                     depth: Union[None, int, str] = ..., udim: bool = ...,
                     period: _Period = ..., seed: int = ..., threads: Optional[int] = ...,
-                    progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...
+                    progress: Optional[Callable[[int, int], Any]] = ...,
+                    tile: Optional[int] = ...) -> Any: ...
 def write_image(path: Union[str, "os.PathLike[str]"], image: npt.ArrayLike,
                 bits: Union[int, str] = ..., srgb: bool = ...) -> None: ...
 def heightmap(image: Union[str, "os.PathLike[str]", npt.ArrayLike],
@@ -141,7 +142,10 @@ def volume(bbox: Sequence[float], voxel_size: float,
            amplitude: float = ..., frequency: float = ...,
            gradient: Literal["analytic", "central"] = ..., step: float = ...,
            period: _Period = ..., seed: int = ..., threads: Optional[int] = ...,
-           progress: Optional[Callable[[int, int], Any]] = ...) -> Any: ...
+           progress: Optional[Callable[[int, int], Any]] = ...,
+           brick: Optional[Tuple[int, int]] = ...) -> Any: ...
+def merge_volumes(path: Union[str, "os.PathLike[str]"],
+                  bricks: Sequence[Union[str, "os.PathLike[str]"]]) -> None: ...
 def render(scene: Literal["sphere", "blob", "torus"] = ..., *,
            mesh: Optional[Union[str, "os.PathLike[str]"]] = ...,
            size: Union[int, Tuple[int, int]] = ..., method: str = ..., spp: int = ...,

@@ -90,12 +90,13 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     int recompute, depth, threads;
     float lac, gain, amp, freq, step;
     PyObject *cb;
+    int only_tile = 0;
     bg_domain dom = {{0, 0, 0}, 0};
-    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO(iii)I", &input, &path, &width, &height,
+    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO(iii)I|i", &input, &path, &width, &height,
                           &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
                           &method, &space, &padding, &tangents, &green_down, &recompute, &depth,
                           &threads, &cb, &dom.period[0], &dom.period[1], &dom.period[2],
-                          &dom.seed))
+                          &dom.seed, &only_tile))
         return NULL;
     bgt_height h;
     bgt_height_init(&h);
@@ -123,6 +124,7 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     o.bake.padding = padding;
     o.bake.tangents = (mesh_tangent_source)tangents;
     o.bake.green_down = green_down;
+    o.bake.only_tile = only_tile;
     o.bake_depth = depth;
     py_progress pp = {.cb = cb};
     bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
@@ -244,11 +246,11 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
     int function, octaves, gradient;
     float lac, gain, amp, freq, step;
     bg_domain dom = {{0, 0, 0}, 0};
-    if (!PyArg_ParseTuple(args, "sdddddddOiifffffiiO(iii)I", &o.output, &o.bbox[0], &o.bbox[1],
+    if (!PyArg_ParseTuple(args, "sdddddddOiifffffiiO(iii)I|ii", &o.output, &o.bbox[0], &o.bbox[1],
                           &o.bbox[2], &o.bbox[3], &o.bbox[4], &o.bbox[5], &o.voxel, &band,
                           &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
                           &o.threads, &cb, &dom.period[0], &dom.period[1], &dom.period[2],
-                          &dom.seed))
+                          &dom.seed, &o.brick, &o.bricks))
         return NULL;
     if (band != Py_None) {
         if (!PyArg_ParseTuple(band, "ddddd", &o.band[0], &o.band[1], &o.band[2], &o.band[3],
@@ -287,6 +289,39 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
         return raise_tool(s, &e);
     return Py_BuildValue("(K(LLL)(LLL))", (unsigned long long)r.voxels, r.lo[0], r.lo[1], r.lo[2],
                          r.hi[0], r.hi[1], r.hi[2]);
+}
+
+/* vdb_merge(output, [brick paths]): bg_vdb_merge (volume --merge). */
+static PyObject *py_vdb_merge(PyObject *self, PyObject *args)
+{
+    (void)self;
+    const char *output;
+    PyObject *list;
+    if (!PyArg_ParseTuple(args, "sO!", &output, &PyList_Type, &list))
+        return NULL;
+    Py_ssize_t n = PyList_GET_SIZE(list);
+    const char **paths = PyMem_Calloc(n ? (size_t)n : 1, sizeof *paths);
+    if (!paths)
+        return PyErr_NoMemory();
+    for (Py_ssize_t i = 0; i < n; i++) {
+        paths[i] = PyUnicode_AsUTF8(PyList_GET_ITEM(list, i));
+        if (!paths[i]) {
+            PyMem_Free(paths);
+            return NULL;
+        }
+    }
+    char msg[1024];
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = bg_vdb_merge(paths, (size_t)n, output, msg, sizeof msg);
+    Py_END_ALLOW_THREADS
+    PyMem_Free(paths);
+    if (s != BG_OK) {
+        bgt_err e;
+        bgt_fail(&e, s, "%s", msg);
+        return raise_tool(s, &e);
+    }
+    Py_RETURN_NONE;
 }
 
 /* The tools' height source (height_source.h) on SoA points, over threads. */
@@ -465,6 +500,7 @@ static PyObject *py_render(PyObject *self, PyObject *args)
         {"write_image", py_write_image, METH_VARARGS, NULL},                                      \
         {"heightmap", py_heightmap, METH_VARARGS, NULL},                                          \
         {"volume_bake", py_volume_bake, METH_VARARGS, NULL},                                      \
+        {"vdb_merge", py_vdb_merge, METH_VARARGS, NULL},                                          \
         {"vdb_sample", py_vdb_sample, METH_VARARGS, NULL},                                        \
         {"height_field", py_height_field, METH_VARARGS, NULL},                                    \
         {"render", py_render, METH_VARARGS, NULL},

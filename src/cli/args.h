@@ -118,7 +118,7 @@ typedef struct cli_spec {
                                       .run = run_##NAME,                                           \
                                       __VA_ARGS__}
 
-enum { CLI_MAX_POSITIONAL = 4 };
+enum { CLI_MAX_POSITIONAL = 4096 }; /* volume --merge takes the bricks */
 
 /* Returned by cli_args_parse after printing --help on stdout. */
 enum { CLI_HELP = -1 };
@@ -169,6 +169,10 @@ extern const char cli_height_heading[];
  * required, relative to a cli_table_io. */
 typedef struct cli_table_io {
     const char *input, *output;
+    struct cli_rows {
+        int have;
+        size_t begin, end; /* end SIZE_MAX: to the last row */
+    } rows;                /* --rows A:B (a .npy input's rows A..B-1) */
 } cli_table_io;
 extern const cli_opt cli_table_io_opts[];
 /* --threads N (0 = all cores, up to 1024), relative to an int. */

@@ -141,6 +141,7 @@ static int run_eval(void *args, const char *const *pos, int npos)
     bgt_eval_opts opts = {.input = a.io.input, .output = a.io.output, .fractal = a.fractal,
                           .domain = a.domain, .central = a.central, .dbl = a.dbl, .step = a.step,
                           .threads = a.threads, .allow_nonfinite = a.allow_nonfinite,
+                          .rows = {a.io.rows.have, a.io.rows.begin, a.io.rows.end},
                           .progress = &pp.sink, .stats = stats};
     bgt_err err;
     double t0 = cli_now();

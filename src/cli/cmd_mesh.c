@@ -297,6 +297,10 @@ static const cli_opt mesh_bake_table[] = {
              "averaged (default 2; 1 = the texel centre alone; more for a --height-grid or a "
              "smoother map)",
      .lo = 1, .hi = MESH_MAX_SAMPLES},
+    {.name = "tile", .kind = CLI_KIND_INT, .offset = A(bake.only_tile), .metavar = "UDIM",
+     .help = "with a <UDIM> map name: bake only this tile (1001..1999), texel for texel the "
+             "same as the full bake's tile; one job per tile on a farm (docs/DISTRIBUTED.md)",
+     .lo = 1001, .hi = 1999},
     {.name = "padding", .kind = CLI_KIND_INT, .offset = A(bake.padding), .metavar = "P",
      .help = "dilate the baked texels into empty ones P times (default 16, as Blender); an "
              "empty texel takes the normals of one UV island, never a mix of two",
@@ -417,6 +421,9 @@ static int run_mesh(void *args, const char *const *pos, int npos)
                    (out_path && strcmp(out_path, "-") == 0)))
         return cli_usage_error(cmd, "--json writes to standard output: give the outputs file "
                                     "names");
+    if (bake.only_tile && (!bake_path || out_path))
+        return cli_usage_error(cmd, "--tile bakes one tile of --bake-normal-map NAME.<UDIM>.EXT "
+                                    "and writes no mesh (the mesh output needs every tile)");
     if (!bake_path && bake.width != 0)
         return cli_usage_error(cmd, "--size is for --bake-normal-map");
     bgt_mesh_opts opts = {.input = in_path, .output = out_path, .bake_path = bake_path,

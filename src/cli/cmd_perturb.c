@@ -131,7 +131,8 @@ static int run_perturb(void *args, const char *const *pos, int npos)
     bgt_points_stats *const stats = &pp.stats;
     bgt_perturb_opts opts = {.input = a.io.input, .output = a.io.output, .height = &a.height,
                              .method = (bg_perturb_method)a.method, .threads = a.threads,
-                             .allow_nonfinite = a.allow_nonfinite, .progress = &pp.sink, .stats = stats};
+                             .allow_nonfinite = a.allow_nonfinite,
+                             .rows = {a.io.rows.have, a.io.rows.begin, a.io.rows.end}, .progress = &pp.sink, .stats = stats};
     bgt_err err;
     double t0 = cli_now();
     bg_status st = bgt_perturb_run(&opts, &err);

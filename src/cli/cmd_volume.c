@@ -9,6 +9,7 @@
 #include <string.h>
 #include "args.h"
 #include "bake/volume.h"
+#include "bumpgrad/volume.h"
 #include "cli.h"
 #include "json.h"
 
@@ -22,6 +23,10 @@ typedef struct volume_args {
         int have;
         double v[5];
     } band;
+    struct brick_arg {
+        int i, n;
+    } brick;
+    const char *merge;
     int threads, json;
 } volume_args;
 
@@ -90,6 +95,28 @@ static int parse_band(const char *cmd, const char *opt, char *text, void *field)
     return 0;
 }
 
+/* "I/N": brick I (0-based, as a job array's task id) of N. */
+static int parse_brick(const char *cmd, const char *opt, char *text, void *field)
+{
+    struct brick_arg *b = field;
+    char *slash = strchr(text, '/'), *end;
+    if (!slash)
+        return cli_usage_error(cmd, "%s: expected I/N (brick I of N, 0 <= I < N), got \"%s\"",
+                               opt, text);
+    *slash = '\0';
+    long i = strtol(text, &end, 10);
+    int bad = end == text || *end != '\0';
+    long n = strtol(slash + 1, &end, 10);
+    bad |= end == slash + 1 || *end != '\0';
+    *slash = '/';
+    if (bad || n < 1 || n > 1000000 || i < 0 || i >= n)
+        return cli_usage_error(cmd, "%s: expected I/N with 1 <= N <= 1000000 and 0 <= I < N, got "
+                               "\"%s\"", opt, text);
+    b->i = (int)i;
+    b->n = (int)n;
+    return 0;
+}
+
 #define A(m) offsetof(volume_args, m)
 static const cli_opt volume_opts[] = {
     {.name = "bbox", .kind = CLI_KIND_CUSTOM, .offset = A(bbox), .metavar = "X0,Y0,Z0,X1,Y1,Z1",
@@ -105,7 +132,15 @@ static const cli_opt volume_opts[] = {
     {.name = "output", .short_name = 'o', .kind = CLI_KIND_STRING, .offset = A(output),
      .metavar = "FILE.vdb", .help = "output; written to a temporary file and renamed on success "
                                     "(\"-\" is refused: OpenVDB writes files)",
-     .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "vdb"},
+     .flags = CLI_FILE, .complete_ext = "vdb"},
+    {.name = "brick", .kind = CLI_KIND_CUSTOM, .offset = A(brick), .metavar = "I/N",
+     .help = "bake only brick I (0 <= I < N) of N: slabs of the box along z on the 8-voxel "
+             "leaf lattice, the same voxels as the whole bake; join them with --merge. The "
+             "voxel limit holds per brick", .parse = parse_brick},
+    {.name = "merge", .kind = CLI_KIND_STRING, .offset = A(merge), .metavar = "OUT.vdb",
+     .help = "merge the brick files given as arguments into OUT.vdb (OpenVDB's tree merge; "
+             "same grids, voxel size and height parameters, no shared voxel) and bake nothing",
+     .flags = CLI_FILE, .complete_ext = "vdb"},
     {.name = "threads", .kind = CLI_KIND_INT, .offset = A(threads), .metavar = "N",
      .help = "worker threads, 0 = all cores", .lo = 0, .hi = 4096},
     {.name = "json", .kind = CLI_KIND_FLAG, .offset = A(json),
@@ -119,7 +154,9 @@ static const cli_opt volume_opts[] = {
 CLI_SPEC(volume,
     .summary = "bake a height function and its gradient into an OpenVDB file",
     .usage = "[--bbox X0,Y0,Z0,X1,Y1,Z1] [--voxel-size S] [height options]\n"
-             "[--band-sphere CX,CY,CZ,R,W] --output FILE.vdb",
+             "[--band-sphere CX,CY,CZ,R,W] [--brick I/N] --output FILE.vdb\n"
+             "--merge OUT.vdb BRICK.vdb...",
+    .max_positional = CLI_MAX_POSITIONAL,
     .about = "Bake the height h(p) and its gradient into an OpenVDB file: a FloatGrid\n"
              "\"height\" and a Vec3SGrid \"gradient\" (world units, covariant). Voxel\n"
              "(i,j,k) sits at world position S*(i,j,k); the baked voxels are those whose\n"
@@ -134,7 +171,10 @@ CLI_SPEC(volume,
             "\n"
             "Example:\n"
             "  bumpgrad volume --function fbm --octaves 4 --bbox -1,-1,-1,1,1,1 \\\n"
-            "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n",
+            "      --voxel-size 0.02 --band-sphere 0,0,0,0.8,0.06 --output ball.vdb\n"
+            "In 4 bricks (4 jobs anywhere), then merged (docs/DISTRIBUTED.md):\n"
+            "  for i in 0 1 2 3; do bumpgrad volume --brick $i/4 --output b$i.vdb; done\n"
+            "  bumpgrad volume --merge whole.vdb b0.vdb b1.vdb b2.vdb b3.vdb\n",
 );
 
 /* The summary line: the file, its voxels and their index box. */
@@ -164,22 +204,64 @@ static void print_json(const volume_args *a, const bgt_volume_result *r, double 
     if (a->band.have)
         cli_json_nums(&j, "band_sphere", a->band.v, 5);
     cli_json_int(&j, "threads", a->threads);
+    if (a->brick.n) {
+        cli_json_int(&j, "brick_index", a->brick.i);
+        cli_json_int(&j, "brick_count", a->brick.n);
+    }
     cli_json_height(&j, "height", &a->height);
     cli_json_close(&j);
     cli_json_end(&j);
 }
 
+/* --merge OUT.vdb BRICK.vdb...: bg_vdb_merge, then the summary. */
+static int run_merge(const volume_args *a, const char *const *pos, int npos)
+{
+    if (npos < 1)
+        return cli_usage_error(CMD, "--merge %s: give the brick files to merge", a->merge);
+    if (a->output || a->brick.n)
+        return cli_usage_error(CMD, "--merge takes no --output or --brick (it bakes nothing)");
+    if (strcmp(a->merge, "-") == 0)
+        return cli_usage_error(CMD, "--merge -: OpenVDB writes files, not streams");
+    char msg[1024];
+    double t0 = cli_now();
+    bg_status st = bg_vdb_merge(pos, (size_t)npos, a->merge, msg, sizeof msg);
+    double dt = cli_now() - t0;
+    if (st != BG_OK) {
+        bgt_err err;
+        bgt_fail(&err, st, "%s", msg);
+        return cli_report(CMD, st, &err);
+    }
+    if (a->json) {
+        cli_json j;
+        cli_json_begin(&j, stdout);
+        cli_json_common(&j, CMD, dt);
+        cli_json_str(&j, "merged", a->merge);
+        cli_json_int(&j, "bricks", npos);
+        cli_json_end(&j);
+    } else if (!cli_quiet()) {
+        printf("%s: %d bricks merged\n", a->merge, npos);
+    }
+    return CLI_OK;
+}
+
 static int run_volume(void *args, const char *const *pos, int npos)
 {
-    (void)pos, (void)npos;
     volume_args a = *(volume_args *)args;
+    if (a.merge)
+        return run_merge(&a, pos, npos);
+    if (npos > 0)
+        return cli_usage_error(CMD, "unexpected argument \"%s\" (brick files go with --merge)",
+                               pos[0]);
+    if (!a.output)
+        return cli_usage_error(CMD, "--output FILE.vdb is required");
     if (strcmp(a.output, "-") == 0)
         return cli_usage_error(CMD, "--output -: OpenVDB writes files, not streams; give a "
                                     "FILE.vdb");
     cli_progress prog;
     bgt_progress sink = cli_progress_sink(&prog);
     bgt_volume_opts opts = {.height = &a.height, .output = a.output, .voxel = a.voxel,
-                            .have_band = a.band.have, .threads = a.threads, .progress = &sink};
+                            .have_band = a.band.have, .threads = a.threads, .progress = &sink,
+                            .brick = a.brick.i, .bricks = a.brick.n};
     memcpy(opts.bbox, a.bbox, sizeof a.bbox);
     if (a.band.have)
         memcpy(opts.band, a.band.v, sizeof a.band.v);
@@ -190,7 +272,10 @@ static int run_volume(void *args, const char *const *pos, int npos)
     double dt = cli_now() - t0;
     if (st != BG_OK)
         return cli_report(CMD, st, &err);
-    if (r.voxels == 0)
+    if (r.voxels == 0 && a.brick.n)
+        cli_warn(CMD, "brick %d/%d holds no voxel (an empty file; it merges as nothing)", a.brick.i,
+                 a.brick.n);
+    else if (r.voxels == 0)
         cli_warn(CMD, "no voxel was baked: no voxel centre lies in the box%s",
                  a.band.have ? " and the band (check --band-sphere against --bbox and "
                                "--voxel-size)"

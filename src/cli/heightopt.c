@@ -7,6 +7,8 @@
  * commands, --threads) and the choice names the commands print. */
 #include <ctype.h>
 #include <math.h>
+#include <errno.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "args.h"
@@ -169,6 +171,33 @@ const cli_opt cli_height_opts[] = {
 const char cli_height_heading[] = "Height function h(p) = A * F(f * p):";
 
 #define IO(m) offsetof(cli_table_io, m)
+/* "A:B", "A:" or ":B", non-negative integers, A <= B. */
+static int parse_rows(const char *cmd, const char *opt, char *text, void *field)
+{
+    struct cli_rows *r = field;
+    const char *colon = strchr(text, ':');
+    unsigned long long v[2] = {0, 0};
+    int open_end = 0, bad = !colon;
+    for (int k = 0; k < 2 && !bad; k++) {
+        const char *s = k ? colon + 1 : text, *stop = k ? text + strlen(text) : colon;
+        if (s == stop) {
+            open_end = k;
+            continue;
+        }
+        char *end;
+        errno = 0;
+        v[k] = strtoull(s, &end, 10);
+        bad = *s < '0' || *s > '9' || end != stop || errno != 0;
+    }
+    if (bad || (!open_end && v[0] > v[1]) || v[0] >= SIZE_MAX || v[1] >= SIZE_MAX)
+        return cli_usage_error(cmd, "%s: expected A:B (rows A..B-1, 0 <= A <= B; A: or :B), "
+                               "got \"%s\"", opt, text);
+    r->have = 1;
+    r->begin = (size_t)v[0];
+    r->end = open_end ? SIZE_MAX : (size_t)v[1];
+    return 0;
+}
+
 const cli_opt cli_table_io_opts[] = {
     {.name = "input", .short_name = 'i', .kind = CLI_KIND_STRING, .offset = IO(input),
      .metavar = "FILE", .help = "input table, \"-\" for standard input",
@@ -177,6 +206,10 @@ const cli_opt cli_table_io_opts[] = {
      .metavar = "FILE", .help = "output table, \"-\" for standard output; written to a temporary "
                                 "file and renamed on success",
      .flags = CLI_REQUIRED | CLI_FILE, .complete_ext = "csv"},
+    {.name = "rows", .kind = CLI_KIND_CUSTOM, .offset = IO(rows), .metavar = "A:B",
+     .help = "only rows A..B-1 of a .npy input (A: or :B for an open end); the output holds "
+             "those rows, so jobs over consecutive ranges concatenate to the whole run",
+     .parse = parse_rows},
     CLI_OPT_END,
 };
 #undef IO

@@ -393,6 +393,14 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
 
 FORWARD_RELEASE(bg_vdb_writer_free, bg_vdb_writer)
 
+bg_status bg_vdb_merge(const char *const *inputs, size_t n, const char *output, char *err,
+                       size_t errlen)
+{
+    bg_status (*f)(const char *const *, size_t, const char *, char *, size_t);
+    GET(f, "bg_vdb_merge", 1);
+    return f ? f(inputs, n, output, err, errlen) : unavailable("bg_vdb_merge", err, errlen);
+}
+
 bg_status bg_vdb_height_open(const char *path, const char *grid_name, bg_vdb_height **out,
                              char *err, size_t errlen)
 {

@@ -26,6 +26,7 @@
 #include <mutex>
 #include <new>
 #include <string>
+#include <vector>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -854,4 +855,143 @@ void bg_vdb_height_sample_batch(const bg_vdb_height *h, const float *px, const f
                                              h->ijt[r][2] * gi[2]);
         }
     }
+}
+
+/* ---- merge ----------------------------------------------------------------- */
+
+// One brick's grids, read as the height reader reads a file: the layout walk
+// and the child probe first, then a stream with exceptions on.
+static bg_status read_brick(const char *path, vdb::GridPtrVecPtr *grids, char *err, size_t errlen)
+{
+    bg_status st = check_vdb_layout(path, err, errlen);
+    if (st != BG_OK)
+        return st;
+    if ((st = probe_in_child(path, "height", err, errlen)) != BG_OK)
+        return st;
+    std::ifstream is(path, std::ios::in | std::ios::binary);
+    if (!is) {
+        bg_io_set_error(err, errlen, "'%s': cannot open", path);
+        return BG_ERR_IO;
+    }
+    is.exceptions(std::ios::failbit | std::ios::badbit);
+    try {
+        vdb::io::Stream stream(is, false);
+        *grids = stream.getGrids();
+    } catch (const std::bad_alloc &) {
+        bg_io_set_error(err, errlen, "'%s': out of memory reading the grids", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    } catch (const std::exception &) {
+        bg_io_set_error(err, errlen, "'%s': truncated or corrupt VDB file", path);
+        return BG_ERR_FORMAT;
+    }
+    return BG_OK;
+}
+
+template <typename GridT>
+static bool merge_into(vdb::GridBase::Ptr dst, vdb::GridBase::Ptr src)
+{
+    auto d = vdb::gridPtrCast<GridT>(dst);
+    auto s = vdb::gridPtrCast<GridT>(src);
+    if (!d || !s)
+        return false;
+    // OpenVDB's own tree merge: the brick's active voxels (and tiles) move
+    // into the result; bricks are disjoint, so nothing is overwritten (the
+    // caller checks the voxel counts add up).
+    d->tree().merge(s->tree(), vdb::MERGE_ACTIVE_STATES);
+    return true;
+}
+
+bg_status bg_vdb_merge(const char *const *inputs, size_t n, const char *output, char *err,
+                       size_t errlen)
+{
+    bg_io_set_error(err, errlen, "%s", "");
+    if (!inputs || !output || n == 0) {
+        bg_io_set_error(err, errlen, "bg_vdb_merge: no input or no output");
+        return BG_ERR_NULL_POINTER;
+    }
+    init_vdb();
+    vdb::GridPtrVecPtr base;
+    std::vector<uint64_t> expect; // active voxels per grid, summed over the bricks
+    for (size_t b = 0; b < n; ++b) {
+        if (!inputs[b]) {
+            bg_io_set_error(err, errlen, "bg_vdb_merge: input %zu is NULL", b);
+            return BG_ERR_NULL_POINTER;
+        }
+        vdb::GridPtrVecPtr grids;
+        bg_status st = read_brick(inputs[b], &grids, err, errlen);
+        if (st != BG_OK)
+            return st;
+        if (!base) {
+            base = grids;
+            for (auto &g : *base)
+                expect.push_back(static_cast<uint64_t>(g->activeVoxelCount()));
+            continue;
+        }
+        st = bg_io_guard("cannot merge '" + std::string(inputs[b]) + "'", "out of memory", "",
+                         BG_ERR_FORMAT, err, errlen, [&] {
+            if (grids->size() != base->size())
+                throw std::runtime_error("it has " + std::to_string(grids->size()) +
+                                         " grids, the first brick " +
+                                         std::to_string(base->size()));
+            for (size_t g = 0; g < base->size(); ++g) {
+                auto &d = (*base)[g];
+                auto s = vdb::findGridByName(*grids, d->getName());
+                if (!s || s->type() != d->type())
+                    throw std::runtime_error("no " + d->type() + " grid '" + d->getName() +
+                                             "' as in '" + inputs[0] + "'");
+                if (s->transform() != d->transform())
+                    throw std::runtime_error("grid '" + d->getName() +
+                                             "' has another transform (voxel size or origin)"
+                                             " than in '" + std::string(inputs[0]) + "'");
+                auto ms = (*s)["bumpgrad:height"], md = (*d)["bumpgrad:height"];
+                if ((ms ? ms->str() : "") != (md ? md->str() : ""))
+                    throw std::runtime_error("grid '" + d->getName() +
+                                             "' was baked with other height parameters (" +
+                                             (ms ? ms->str() : "none") + ") than in '" +
+                                             inputs[0] + "' (" + (md ? md->str() : "none") + ")");
+                expect[g] += static_cast<uint64_t>(s->activeVoxelCount());
+                if (!merge_into<vdb::FloatGrid>(d, s) && !merge_into<vdb::Vec3SGrid>(d, s))
+                    throw std::runtime_error("grid '" + d->getName() + "' of type " + d->type() +
+                                             " cannot be merged (float and vec3s grids only)");
+            }
+            return BG_OK;
+        }, [] {});
+        if (st != BG_OK)
+            return st;
+    }
+    for (size_t g = 0; g < base->size(); ++g)
+        if (static_cast<uint64_t>((*base)[g]->activeVoxelCount()) != expect[g]) {
+            bg_io_set_error(err, errlen,
+                            "the bricks overlap: grid '%s' has %llu active voxels merged, %llu "
+                            "in the bricks together",
+                            (*base)[g]->getName().c_str(),
+                            (unsigned long long)(*base)[g]->activeVoxelCount(),
+                            (unsigned long long)expect[g]);
+            return BG_ERR_INVALID_ARGUMENT;
+        }
+    std::string tmp;
+    bg_status st = bg_io_make_temp(output, &tmp, err, errlen);
+    if (st != BG_OK)
+        return st;
+    st = bg_io_guard("cannot write '" + std::string(output) + "'", "out of memory", "", BG_ERR_IO,
+                     err, errlen, [&] {
+        vdb::GridCPtrVec grids(base->begin(), base->end());
+        vdb::io::File file(tmp);
+        file.write(grids);
+        file.close();
+        // As bg_vdb_writer_write: read back in full before it may replace anything.
+        vdb::io::File check(tmp);
+        check.open(false);
+        size_t count = 0;
+        for (auto it = check.beginName(); it != check.endName(); ++it, ++count)
+            if (!check.readGrid(it.gridName()))
+                throw std::runtime_error("a grid does not read back");
+        check.close();
+        if (count != grids.size())
+            throw std::runtime_error("the file read back has another number of grids");
+        return BG_OK;
+    }, [&] { bg_io_discard_temp(tmp); });
+    if (st != BG_OK)
+        return st;
+    return bg_io_commit_temp(tmp, output, err, errlen);
 }

@@ -87,6 +87,11 @@ static bg_status check_opts(const bgt_volume_opts *o, bgt_err *e)
     if (strcmp(o->output, "-") == 0)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         "--output: a VDB file cannot go to standard output (\"-\")");
+    if (o->bricks < 0 || o->bricks > 1000000 ||
+        (o->bricks > 1 && (o->brick < 0 || o->brick >= o->bricks)))
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--brick: I/N needs 1 <= N <= 1000000 and 0 <= I < N, got %d/%d", o->brick,
+                        o->bricks);
     if (o->height->grid_path)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                         "--height-grid: volume bakes a height function, not a grid");
@@ -115,10 +120,24 @@ static bg_status box_range(const bgt_volume_opts *o, vol_plan *p, bgt_err *e)
             return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
                             "--bbox: no voxel centre (multiple of %g) inside the box on axis %c",
                             voxel, "xyz"[a]);
-        const uint64_t d = (uint64_t)(p->hi[a] - p->lo[a] + 1);
+    }
+    if (o->bricks > 1) {
+        /* Brick b of N: leaf slabs L0 + n b / N .. L0 + n (b + 1) / N - 1 along z. */
+        const long long l0 = (long long)floor((double)p->lo[2] / 8),
+                        n = (long long)floor((double)p->hi[2] / 8) - l0 + 1;
+        const long long s0 = l0 + n * o->brick / o->bricks,
+                        s1 = l0 + n * (o->brick + 1) / o->bricks;
+        const long long k0 = s0 * 8, k1 = s1 * 8 - 1;
+        if (k0 > p->lo[2])
+            p->lo[2] = p->ilo[2] = k0;
+        if (k1 < p->hi[2])
+            p->hi[2] = p->ihi[2] = k1;
+    }
+    for (int a = 0; a < 3; a++) {
+        const uint64_t d = p->hi[a] >= p->lo[a] ? (uint64_t)(p->hi[a] - p->lo[a] + 1) : 0;
         if (a > 0)
             p->rows *= d;
-        dense = dense > UINT64_MAX / d ? UINT64_MAX : dense * d;
+        dense = d && dense > UINT64_MAX / d ? UINT64_MAX : dense * d;
     }
     if (!o->have_band && dense > VOL_MAX_VOXELS)
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
@@ -136,13 +155,16 @@ static bg_status band_range(const bgt_volume_opts *o, vol_plan *p, bgt_err *e)
 {
     const double *band = o->band;
     p->rows = 1;
-    for (int a = 0; a < 3; a++) {
+    for (int a = 0; a < 3; a++)
         clip_range(band[a], band[3] + band[4], o->voxel, &p->ilo[a], &p->ihi[a]);
+    for (int a = 0; a < 3; a++) {
+        if (p->ihi[a] < p->ilo[a]) {
+            p->rows = 0;
+            break;
+        }
         if (a > 0)
             p->rows *= (uint64_t)(p->ihi[a] - p->ilo[a] + 1);
     }
-    if (p->ihi[0] < p->ilo[0])
-        p->rows = 0;
     /* Each row costs time even if the band misses it; a sphere this wide
      * would also have more band voxels than the limit. */
     if (p->rows > VOL_MAX_VOXELS)
@@ -330,6 +352,11 @@ bg_status bgt_volume_run(const bgt_volume_opts *o, bgt_volume_result *r, bgt_err
     if (!batch_alloc(&b, VOL_BATCH + (size_t)(p.ihi[0] - p.ilo[0] + 1)))
         st = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory");
     else if ((st = writer_open(&height, o->voxel, &w, e)) == BG_OK &&
+             /* The gradient grid exists also when no voxel is baked (an empty
+              * brick has the grids of the others, so it merges). */
+             (st = bg_vdb_writer_add(w, b.i, b.j, b.k, 0, b.h, b.gx, b.gy, b.gz) == BG_OK
+                       ? BG_OK
+                       : bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory")) == BG_OK &&
              (st = bake_rows(o, &p, &b, w, e)) == BG_OK) {
         char err[1024];
         bg_status ws = bg_vdb_writer_write(w, o->output, err, sizeof err);

@@ -18,13 +18,18 @@ typedef struct bgt_volume_opts {
     double voxel;             /* voxel edge, finite and > 0; voxel (i,j,k) is at S*(i,j,k) */
     int have_band;            /* nonzero: only the narrow band of band[] */
     double band[5];           /* CX,CY,CZ,R,W: voxels with | |p - C| - R | <= W */
+    int brick, bricks;        /* bricks > 1: bake only brick `brick` (0..bricks-1) of the
+                               * box: slabs along z on the 8-voxel leaf lattice, so bricks
+                               * share no leaf; bg_vdb_merge of all bricks equals the
+                               * whole bake voxel for voxel. The voxel limit is per brick */
     int threads;              /* 0 = all cores */
     const bgt_progress *progress; /* "baking rows", counted in rows of voxels; may be NULL */
 } bgt_volume_opts;
 
 typedef struct bgt_volume_result {
     uint64_t voxels;          /* active voxels written (height + gradient) */
-    long long lo[3], hi[3];   /* index box of the voxel centres inside bbox */
+    long long lo[3], hi[3];   /* index box of the voxel centres inside bbox (of this brick
+                               * with bricks > 1; hi[2] < lo[2] for an empty brick) */
 } bgt_volume_result;
 
 /* Check the box, the band and the voxel count (at most 2^28 active voxels),

@@ -55,6 +55,9 @@ typedef struct mesh_bake_opts {
     int samples;         /* N: N x N stratified samples per texel, averaged (1: the texel
                           * centre; 0: MESH_DEFAULT_SAMPLES), at most MESH_MAX_SAMPLES */
     const struct mesh_hi *hi; /* the high-poly source of --from (mesh_internal.h), or NULL */
+    int only_tile;       /* 0, or with udim one UDIM number: bake that tile alone (texel
+                          * for texel the same tile as the full bake; an error if the UVs
+                          * do not touch it) */
 } mesh_bake_opts;
 typedef struct mesh_bake_stats {
     size_t covered;      /* texels inside some triangle */

@@ -538,6 +538,10 @@ static bg_status choose_tiles(const bg_mesh *m, const mesh_bake_opts *o,
     size_t wanted = 0;
     *ntiles = 1;
     tiles[0] = 1001;
+    if (o->only_tile && !o->udim)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--tile %d: the map's name needs the <UDIM> token (e.g. n.<UDIM>.png)",
+                        o->only_tile);
     if (!o->udim)
         return outside_unit_square(m, stats, e);
     *ntiles = udim_tiles(m, tiles, &wanted);
@@ -553,6 +557,27 @@ static bg_status choose_tiles(const bg_mesh *m, const mesh_bake_opts *o,
                         "no triangle has UVs in the UDIM range (u in [0, 10), v in [0, %d)): "
                         "nothing to bake",
                         MESH_UDIM_V_TILES);
+    if (o->only_tile) {
+        /* One tile of the same bake: every tile is baked on its own (the
+         * raster, the shading and the padding see only its texels), so this
+         * is the full bake's tile. */
+        char list[160] = "";
+        for (size_t i = 0; i < *ntiles; i++) {
+            if (tiles[i] == o->only_tile) {
+                tiles[0] = o->only_tile;
+                *ntiles = 1;
+                return BG_OK;
+            }
+            if (strlen(list) < sizeof list - 16)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%d", i ? ", " : "",
+                         tiles[i]);
+            else if (!strstr(list, "..."))
+                strcat(list, ", ...");
+        }
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--tile %d: no triangle's UVs touch that tile (they touch %s)",
+                        o->only_tile, list);
+    }
     return BG_OK;
 }
 

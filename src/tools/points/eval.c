@@ -64,7 +64,7 @@ bg_status bgt_eval_run(const bgt_eval_opts *o, bgt_err *e)
     eval_job job = {.f = &o->fractal, .d = &o->domain, .central = o->central, .dbl = o->dbl, .step = o->step};
     bgt_table_pass p = {
         .label = "eval", .input = o->input, .output = o->output,
-        .allow_nonfinite = o->allow_nonfinite, .names = eval_header, .count = 3, .dbl = o->dbl,
+        .allow_nonfinite = o->allow_nonfinite, .range = o->rows, .names = eval_header, .count = 3, .dbl = o->dbl,
         .cols = 7, .csv_header = "x,y,z,value,dx,dy,dz", .block = EVAL_BLOCK,
         .chunk = EVAL_CHUNK, .threads = o->threads,
         .mem_bytes = 7 * EVAL_BLOCK * (o->dbl ? sizeof(double) : sizeof(float)),

@@ -100,7 +100,7 @@ bg_status bgt_perturb_run(const bgt_perturb_opts *o, bgt_err *e)
 #endif
     bgt_table_pass p = {
         .label = "perturb", .input = o->input, .output = o->output,
-        .allow_nonfinite = o->allow_nonfinite, .names = perturb_header, .count = 6, .dbl = 0,
+        .allow_nonfinite = o->allow_nonfinite, .range = o->rows, .names = perturb_header, .count = 6, .dbl = 0,
         .cols = 11, .flag_cols = 1, .csv_header = "x,y,z,nx,ny,nz,height,px,py,pz,inward",
         .block = PERTURB_BLOCK, .chunk = PERTURB_CHUNK, .threads = o->threads,
         .mem_bytes = 11 * PERTURB_BLOCK * sizeof(float), .bind = perturb_bind, .fcols = job.c,

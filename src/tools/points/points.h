@@ -9,6 +9,14 @@
 #include "common/tool.h"
 #include "height_source.h"
 
+/* A row range of a .npy input (`--rows A:B`): rows begin..end-1 only, the
+ * output holding just those rows, so a big table splits into jobs whose
+ * outputs, concatenated in order, equal the whole run's. */
+typedef struct bgt_row_range {
+    int have;
+    size_t begin, end; /* end: SIZE_MAX for "to the last row" */
+} bgt_row_range;
+
 /* What a run saw (optional): rows is updated before each progress update. */
 typedef struct bgt_points_stats {
     size_t rows;
@@ -27,6 +35,7 @@ typedef struct bgt_eval_opts {
     double step;   /* central step, > 0 */
     int threads;   /* 0: all cores */
     int allow_nonfinite;
+    bgt_row_range rows; /* .npy input only */
     const bgt_progress *progress; /* counts input bytes (total: the file size, 0 for a pipe) */
     bgt_points_stats *stats;      /* may be NULL */
 } bgt_eval_opts;
@@ -42,6 +51,7 @@ typedef struct bgt_perturb_opts {
     bg_perturb_method method;
     int threads;
     int allow_nonfinite;
+    bgt_row_range rows; /* .npy input only */
     const bgt_progress *progress; /* as for eval */
     bgt_points_stats *stats;      /* may be NULL */
 } bgt_perturb_opts;

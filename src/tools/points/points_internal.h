@@ -10,6 +10,7 @@
 
 #include <stddef.h>
 #include "common/tool.h"
+#include "points.h"
 
 /* One pass of a points tool (eval, perturb) over its input table, in constant
  * memory: open the input (columns `names`) and the output (safe_file.h), then
@@ -22,6 +23,7 @@ typedef struct bgt_table_pass {
     const char *label; /* progress label */
     const char *input, *output;
     int allow_nonfinite;
+    bgt_row_range range; /* rows of a .npy input (CSV: refused) */
     const char *const *names;
     int count; /* input columns: the first `count` output columns */
     int dbl;   /* read and write in double (CSV %.17g, .npy float64), else float

@@ -3,8 +3,11 @@
  * a muxer, the pass picks a reader and a writer once, by the file name, from
  * the lists below; the first that claims the name wins and the last claims
  * every name. */
+#define _POSIX_C_SOURCE 200809L /* fseeko */
 #include "points_internal.h"
 #include <errno.h>
+#include <stdint.h>
+#include <sys/types.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +40,21 @@ static bg_status npy_open(table_in *t, bgt_err *e, const char *path, const bgt_t
 {
     size_t want = (size_t)p->count;
     bg_status rc = bgt_npy_open(&t->np, e, path, p->allow_nonfinite, &want, 1);
+    if (!rc && p->range.have) {
+        /* Rows begin..end-1: seek to the first, stop after the last. */
+        bgt_npy_in *a = &t->np;
+        size_t end = p->range.end == SIZE_MAX ? a->rows : p->range.end;
+        if (p->range.begin > end || end > a->rows)
+            rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                          "--rows %zu:%zu: %s has %zu rows (A <= B <= rows)", p->range.begin,
+                          end, path, a->rows);
+        else if (fseeko(a->fp, (off_t)(a->data_off + p->range.begin * a->cols *
+                                                         (a->f64 ? 8u : 4u)), SEEK_SET) != 0)
+            rc = bgt_fail(e, BG_ERR_IO, "%s: cannot seek to row %zu: %s", path, p->range.begin,
+                          strerror(errno));
+        else
+            a->row = p->range.begin, a->rows = end;
+    }
     if (rc)
         bgt_npy_close(&t->np);
     return rc;
@@ -58,6 +76,10 @@ static void npy_close(table_in *t) { bgt_npy_close(&t->np); }
 
 static bg_status csv_open(table_in *t, bgt_err *e, const char *path, const bgt_table_pass *p)
 {
+    if (p->range.have)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--rows: needs a .npy input (%s: CSV rows have no fixed size; split "
+                        "the file instead)", path);
     bg_status rc = bgt_csv_open(&t->csv, e, path, p->allow_nonfinite);
     if (rc)
         return rc;
