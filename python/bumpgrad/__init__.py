@@ -1015,7 +1015,7 @@ def merge_volumes(path, bricks):
 def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
                     octaves=DEFAULT_OCTAVES, lacunarity=2.0, gain=0.5, amplitude=0.1,
                     frequency=1.0, gradient="analytic", step=DEFAULT_CENTRAL_STEP,
-                    method="surfgrad", space="tangent", padding=4, tangents="mikktspace",
+                    method="surfgrad", space="tangent", padding=16, tangents="mikktspace",
                     normal_map_y="+y", recompute_normals=False, depth=None, udim=False,
                     period=None, seed=0, threads=None, progress=None, tile=None):
     """Bake the normal map of a mesh bumped by a solid height field: the tool
@@ -1033,7 +1033,7 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     method, period, seed: the height field and perturbation, as perturb_height.
     space      'tangent' (mikkTSpace frame) or 'object'; tangents 'mikktspace' or
                'file'; normal_map_y '+y' (OpenGL, glTF) or '-y' (DirectX).
-    padding    dilate into empty texels this many times (integer >= 0).
+    padding    dilate into empty texels this many times (integer >= 0; 16, as the CLI).
     depth      None (the tool's default for the file type), 8, 16, 'half' or 'float'.
     threads    worker threads (default: all cores).
     tile       None, or one UDIM number (1001..1999) with udim=True or a path
