@@ -425,7 +425,7 @@ static const struct bench_case {
     {K_PERTURB, "perturb surfgrad", {.m = BG_PERTURB_SURFGRAD}},
     {K_PERTURB_HEIGHT, "perturb_height turb6 analytic",
      {.m = BG_PERTURB_SURFGRAD,
-      .hg = {{BG_FUNC_TURBULENCE, 6, 2, .5f}, 0.1f, 1, BG_GRADIENT_ANALYTIC, 0}}},
+      .hg = {{BG_FUNC_TURBULENCE, 6, 2, .5f}, 0.1f, 1, BG_GRADIENT_ANALYTIC, 0, {{0, 0, 0}, 0}}}},
 };
 
 /* ns per sample of one kernel on one ISA: the batch length is grown until a call
