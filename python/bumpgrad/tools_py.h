@@ -37,6 +37,37 @@ typedef struct py_progress {
     PyObject *exc_value, *exc_tb;
 } py_progress;
 
+/* The height parameters of a tool call, as the CLI's height options give them. */
+static void height_from_args(bgt_height *h, int function, int octaves, float lac, float gain,
+                             float amp, float freq, int gradient, float step, bg_domain dom)
+{
+    bgt_height_init(h);
+    h->h.fractal.function = (bg_function)function;
+    h->h.fractal.octaves = octaves;
+    h->h.fractal.lacunarity = lac;
+    h->h.fractal.gain = gain;
+    h->h.amplitude = amp;
+    h->h.frequency = freq;
+    h->h.gradient = (bg_gradient_mode)gradient;
+    h->h.step = step;
+    h->h.domain = dom;
+}
+
+/* After a tool run: the progress callback's exception, else the tool's error
+ * (bumpgrad.Error), is set and 1 returned; 0 when the run succeeded. */
+static int tool_failed(py_progress *pp, bg_status s, const bgt_err *e)
+{
+    if (pp->exc) {
+        PyErr_Restore(pp->exc, pp->exc_value, pp->exc_tb);
+        return 1;
+    }
+    if (s != BG_OK) {
+        raise_tool(s, e);
+        return 1;
+    }
+    return 0;
+}
+
 static void progress_call(py_progress *p, size_t done)
 {
     PyGILState_STATE g = PyGILState_Ensure();
@@ -99,16 +130,7 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
                           &dom.seed, &only_tile))
         return NULL;
     bgt_height h;
-    bgt_height_init(&h);
-    h.h.fractal.function = (bg_function)function;
-    h.h.fractal.octaves = octaves;
-    h.h.fractal.lacunarity = lac;
-    h.h.fractal.gain = gain;
-    h.h.amplitude = amp;
-    h.h.frequency = freq;
-    h.h.gradient = (bg_gradient_mode)gradient;
-    h.h.step = step;
-    h.h.domain = dom;
+    height_from_args(&h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
     bgt_mesh_opts o;
     memset(&o, 0, sizeof o);
     o.input = input;
@@ -137,12 +159,8 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     Py_BEGIN_ALLOW_THREADS
     s = bgt_mesh_run(&o, &r, &e);
     Py_END_ALLOW_THREADS
-    if (pp.exc) {
-        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+    if (tool_failed(&pp, s, &e))
         return NULL;
-    }
-    if (s != BG_OK)
-        return raise_tool(s, &e);
     PyObject *tiles = PyList_New((Py_ssize_t)r.bake.tiles);
     if (!tiles)
         return NULL;
@@ -259,16 +277,7 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
         o.have_band = 1;
     }
     bgt_height h;
-    bgt_height_init(&h);
-    h.h.fractal.function = (bg_function)function;
-    h.h.fractal.octaves = octaves;
-    h.h.fractal.lacunarity = lac;
-    h.h.fractal.gain = gain;
-    h.h.amplitude = amp;
-    h.h.frequency = freq;
-    h.h.gradient = (bg_gradient_mode)gradient;
-    h.h.step = step;
-    h.h.domain = dom;
+    height_from_args(&h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
     o.height = &h;
     py_progress pp = {.cb = cb};
     bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
@@ -281,12 +290,8 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
     Py_BEGIN_ALLOW_THREADS
     s = bgt_volume_run(&o, &r, &e);
     Py_END_ALLOW_THREADS
-    if (pp.exc) {
-        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+    if (tool_failed(&pp, s, &e))
         return NULL;
-    }
-    if (s != BG_OK)
-        return raise_tool(s, &e);
     return Py_BuildValue("(K(LLL)(LLL))", (unsigned long long)r.voxels, r.lo[0], r.lo[1], r.lo[2],
                          r.hi[0], r.hi[1], r.hi[2]);
 }
@@ -348,16 +353,7 @@ static PyObject *py_height_field(PyObject *self, PyObject *args)
                           &dom.seed))
         return NULL;
     bgt_height h;
-    bgt_height_init(&h);
-    h.h.fractal.function = (bg_function)function;
-    h.h.fractal.octaves = octaves;
-    h.h.fractal.lacunarity = lac;
-    h.h.fractal.gain = gain;
-    h.h.amplitude = amp;
-    h.h.frequency = freq;
-    h.h.gradient = (bg_gradient_mode)gradient;
-    h.h.step = step;
-    h.h.domain = dom;
+    height_from_args(&h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
     bgt_err e;
     bgt_err_clear(&e);
     bg_status s = bgt_height_open(&h, &e);
@@ -462,16 +458,8 @@ static PyObject *py_render(PyObject *self, PyObject *args)
     o.methods[0] = m;
     o.output = output;
     o.threads = threads;
-    o.h.h.fractal.function = (bg_function)function;
-    o.h.h.fractal.octaves = octaves;
-    o.h.h.fractal.lacunarity = lac;
-    o.h.h.fractal.gain = gain;
-    o.h.h.amplitude = amp;
-    o.h.h.frequency = freq;
-    o.h.h.gradient = (bg_gradient_mode)gradient;
-    o.h.h.step = step;
-    memcpy(o.h.h.domain.period, period, sizeof period);
-    o.h.h.domain.seed = seed;
+    bg_domain dom = {{period[0], period[1], period[2]}, seed};
+    height_from_args(&o.h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
     py_progress pp = {.cb = cb};
     bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
     if (cb != Py_None)
@@ -484,12 +472,8 @@ static PyObject *py_render(PyObject *self, PyObject *args)
     Py_BEGIN_ALLOW_THREADS
     s = bgt_render_run(&o, &r, &e);
     Py_END_ALLOW_THREADS
-    if (pp.exc) {
-        PyErr_Restore(pp.exc, pp.exc_value, pp.exc_tb);
+    if (tool_failed(&pp, s, &e))
         return NULL;
-    }
-    if (s != BG_OK)
-        return raise_tool(s, &e);
     return Py_BuildValue("(iisn)", r.out_width, r.out_height, r.tracer ? r.tracer : "",
                          (Py_ssize_t)r.triangles);
 }
