@@ -276,6 +276,13 @@ static inline vf vf_canon(vf a)
 {
     return _mm256_blendv_ps(a, _mm256_set1_ps(NAN), _mm256_cmp_ps(a, a, _CMP_UNORD_Q));
 }
+/* Whether a lane of a, b, c or d is NaN (unordered compares take two operands). */
+#define BG_HAVE_ANY_NAN4 1
+static inline int vf_any_nan4(vf a, vf b, vf c, vf d)
+{
+    return _mm256_movemask_ps(_mm256_or_ps(_mm256_cmp_ps(a, b, _CMP_UNORD_Q),
+                                           _mm256_cmp_ps(c, d, _CMP_UNORD_Q))) != 0;
+}
 /* tab[idx & 15]: vpermps uses index bits 0-2; bit 3 (moved to the sign)
  * picks the upper half. */
 static inline vf vf_lut16(const float *tab, vi idx)

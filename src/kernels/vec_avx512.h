@@ -185,6 +185,12 @@ static inline vf vf_canon(vf a)
 {
     return _mm512_mask_mov_ps(a, _mm512_cmp_ps_mask(a, a, _CMP_UNORD_Q), _mm512_set1_ps(NAN));
 }
+/* Whether a lane of a, b, c or d is NaN (unordered compares take two operands). */
+#define BG_HAVE_ANY_NAN4 1
+static inline int vf_any_nan4(vf a, vf b, vf c, vf d)
+{
+    return (_mm512_cmp_ps_mask(a, b, _CMP_UNORD_Q) | _mm512_cmp_ps_mask(c, d, _CMP_UNORD_Q)) != 0;
+}
 
 /* The corners by table (bump_tmpl.c BG_GRAD_BY_TABLE): three vpermps of
  * 16-entry tables, three products and two sums per corner, where the selects
