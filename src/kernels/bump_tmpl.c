@@ -110,6 +110,16 @@ typedef struct corner {
     vf v, gx, gy, gz;
 } corner;
 
+/* c + a b where the product a b is exact (a factor +-1, +-2 or +-0 against a
+ * finite or NaN one): one rounding either way, so a fused multiply-add gives
+ * the bits of the separate product and sum, zeros' signs included (an exact
+ * zero sum takes addition's sign rule in both). Vocabularies with FMA map it
+ * to one instruction (vec_avx2.h, vec_avx512.h), which also moves the sum from
+ * the adder ports to the multiplier ports; elsewhere it is the sum itself. */
+#ifndef BG_HAVE_FMA_EXACT
+BG_INLINE vf vf_fma_exact(vf a, vf b, vf c) { return vf_add(c, vf_mul(a, b)); }
+#endif
+
 #ifdef BG_GRAD_BY_TABLE
 /* One lane: table lookups by h & 15 beat the branches a scalar compiler makes
  * of the selects. The gradient vector is tabulated from the selects (+-1 and
@@ -133,7 +143,8 @@ BG_INLINE vf grad_value(vi hash, vf dx, vf dy, vf dz, int ck)
     vf gx = vf_lut16(ck & 1 ? grad_tab_x : grad_lo_x, hash);
     vf gy = vf_lut16(ck & 2 ? grad_tab_y : grad_lo_y, hash);
     vf gz = vf_lut16(ck & 4 ? grad_tab_z : grad_lo_z, hash);
-    return vf_add(vf_add(vf_mul(gx, dx), vf_mul(gy, dy)), vf_mul(gz, dz));
+    /* (gx dx + gy dy) + gz dz: every product exact (g is +-1 or +-0). */
+    return vf_fma_exact(gz, dz, vf_fma_exact(gy, dy, vf_mul(gx, dx)));
 }
 
 /* Corner ck's value and, when `want_grad` (a constant after inlining), its
@@ -160,12 +171,18 @@ BG_INLINE corner grad_corner_g(const vhash *hs, int ck, vf dx, vf dy, vf dz, int
     corner c;
     vi hash = vh_corner(hs, ck);
     vf first = vf_sel_bit(hash, 3, dy, dx), second = vf_sel_bit(hash, 2, dz, dy);
+#ifdef BG_HAVE_FLIP_SIGN
+    /* The flip is a product with +-1 (exact): the second one fused into the sum. */
+    vf sf = vf_flip_sign(hash, 0), ss = vf_flip_sign(hash, 1);
+    c.v = vf_fma_exact(second, ss, vf_mul(first, sf));
+#else
+    vf sf = vf_flip_bit(vf_set1(1), hash, 0), ss = vf_flip_bit(vf_set1(1), hash, 1);
     c.v = vf_add(vf_flip_bit(first, hash, 0), vf_flip_bit(second, hash, 1));
+#endif
     vf zero = vf_set1(0);
     c.gx = c.gy = c.gz = zero;
     if (!want_grad)
         return c;
-    vf sf = vf_flip_bit(vf_set1(1), hash, 0), ss = vf_flip_bit(vf_set1(1), hash, 1);
     c.gx = vf_sel_bit(hash, 3, zero, sf);
     c.gy = vf_sel_bit(hash, 3, sf, vf_sel_bit(hash, 2, zero, ss));
     c.gz = vf_sel_bit(hash, 2, ss, zero);
@@ -221,17 +238,31 @@ BG_INLINE corner grad_corner(const vhash *hs, int ck, vf dx, vf dy, vf dz)
 /* lerp(t, a, b) = a + t (b - a), the reference's form. */
 BG_INLINE vf lerp(vf t, vf a, vf b) { return vf_add(a, vf_mul(t, vf_sub(b, a))); }
 
+/* lerp(t, a, b) where b - a is exact and t (b - a) too: a and b are corner
+ * gradient components (+-1 or +0), so b - a is an integer in [-2, 2]. */
+BG_INLINE vf lerp_corner(vf t, vf a, vf b) { return vf_fma_exact(t, vf_sub(b, a), a); }
+
 /* The lerp carried with its gradient: t depends on one axis only (0 x, 1 y,
- * 2 z; a constant after inlining), whose component gains dt (b - a). */
-BG_INLINE corner lerp_axis(vf t, vf dt, corner a, corner b, int axis)
+ * 2 z; a constant after inlining), whose component gains dt (b - a). `first`
+ * (a constant): a and b are corners (grad_corner), so the gradient lerps take
+ * lerp_corner's exact products. */
+BG_INLINE corner lerp_axis_g(vf t, vf dt, corner a, corner b, int axis, int first)
 {
     corner r;
     vf dv = vf_sub(b.v, a.v);
     r.v = vf_add(a.v, vf_mul(t, dv));
-    r.gx = lerp(t, a.gx, b.gx), r.gy = lerp(t, a.gy, b.gy), r.gz = lerp(t, a.gz, b.gz);
+    if (first)
+        r.gx = lerp_corner(t, a.gx, b.gx), r.gy = lerp_corner(t, a.gy, b.gy),
+        r.gz = lerp_corner(t, a.gz, b.gz);
+    else
+        r.gx = lerp(t, a.gx, b.gx), r.gy = lerp(t, a.gy, b.gy), r.gz = lerp(t, a.gz, b.gz);
     vf *g = axis == 0 ? &r.gx : axis == 1 ? &r.gy : &r.gz;
     *g = vf_add(*g, vf_mul(dt, dv));
     return r;
+}
+BG_INLINE corner lerp_axis(vf t, vf dt, corner a, corner b, int axis)
+{
+    return lerp_axis_g(t, dt, a, b, axis, 0);
 }
 
 /* Split a coordinate into its lattice cell modulo 256 and its fraction.
@@ -405,11 +436,11 @@ BG_INLINE corner noise_at(vcell c, int want_grad)
      * all eight): 8 corners x 4 vectors live at once do not fit the 32 AVX-512
      * registers next to the rest and were spilled to the stack. */
     vf du = dfade(fx), dv = dfade(fy), dw = dfade(fz);
-    corner a0 = lerp_axis(u, du, grad_corner(&hs, 0, fx, fy, fz), grad_corner(&hs, 1, x1, fy, fz), 0);
-    corner a1 = lerp_axis(u, du, grad_corner(&hs, 2, fx, y1, fz), grad_corner(&hs, 3, x1, y1, fz), 0);
+    corner a0 = lerp_axis_g(u, du, grad_corner(&hs, 0, fx, fy, fz), grad_corner(&hs, 1, x1, fy, fz), 0, 1);
+    corner a1 = lerp_axis_g(u, du, grad_corner(&hs, 2, fx, y1, fz), grad_corner(&hs, 3, x1, y1, fz), 0, 1);
     corner b0 = lerp_axis(v, dv, a0, a1, 1);
-    corner a2 = lerp_axis(u, du, grad_corner(&hs, 4, fx, fy, z1), grad_corner(&hs, 5, x1, fy, z1), 0);
-    corner a3 = lerp_axis(u, du, grad_corner(&hs, 6, fx, y1, z1), grad_corner(&hs, 7, x1, y1, z1), 0);
+    corner a2 = lerp_axis_g(u, du, grad_corner(&hs, 4, fx, fy, z1), grad_corner(&hs, 5, x1, fy, z1), 0, 1);
+    corner a3 = lerp_axis_g(u, du, grad_corner(&hs, 6, fx, y1, z1), grad_corner(&hs, 7, x1, y1, z1), 0, 1);
     corner b1 = lerp_axis(v, dv, a2, a3, 1);
     return lerp_axis(w, dw, b0, b1, 2);
 }
@@ -727,6 +758,16 @@ void KFN(noise3)(const bg_real *x, const bg_real *y, const bg_real *z, size_t n,
 BG_INLINE void store_corner(corner r, size_t i, size_t c, bg_real *v, bg_real *gx,
                                 bg_real *gy, bg_real *gz)
 {
+#ifdef BG_HAVE_ANY_NAN4
+    /* No NaN in any of the four (the usual case): vf_canon is the identity, so
+     * one test of all four replaces its four tests and selects. */
+    if (!vf_any_nan4(r.v, r.gx, r.gy, r.gz)) {
+        if (v)
+            vf_storen(v + i, r.v, c);
+        vf_storen(gx + i, r.gx, c), vf_storen(gy + i, r.gy, c), vf_storen(gz + i, r.gz, c);
+        return;
+    }
+#endif
     if (v)
         store_out(v + i, r.v, c);
     store_out(gx + i, r.gx, c);

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* Vector vocabulary, AVX2: eight float lanes. Same IEEE semantics as vec_c.h in
  * every lane. meson also passes -mfma for this level, but -ffp-contract=off keeps
- * the compiler from fusing a*b+c, and no FMA intrinsic is used: fusing would
- * change the rounding and so the bits against the scalar kernel. */
+ * the compiler from fusing a*b+c: fusing would change the rounding and so the
+ * bits against the scalar kernel. The one FMA intrinsic, vf_fma_exact, is used
+ * only where the product is exact, so its one rounding is the sum's. */
 #ifndef BUMPGRAD_VEC_AVX2_H
 #define BUMPGRAD_VEC_AVX2_H
 
@@ -64,6 +65,9 @@ static inline vf vf_add(vf a, vf b) { return _mm256_add_ps(a, b); }
 static inline vf vf_sub(vf a, vf b) { return _mm256_sub_ps(a, b); }
 static inline vf vf_mul(vf a, vf b) { return _mm256_mul_ps(a, b); }
 static inline vf vf_div(vf a, vf b) { return _mm256_div_ps(a, b); }
+/* c + a b for an exact product only (bump_tmpl.c vf_fma_exact). */
+#define BG_HAVE_FMA_EXACT 1
+static inline vf vf_fma_exact(vf a, vf b, vf c) { return _mm256_fmadd_ps(a, b, c); }
 static inline vf vf_sqrt(vf a) { return _mm256_sqrt_ps(a); }
 /* roundps toward -inf is IEEE floor: keeps -0, passes NaN and |a| >= 2^23. */
 static inline vf vf_floor(vf a) { return _mm256_round_ps(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
@@ -259,14 +263,25 @@ static inline vf vf_sel_bit(vi h, int b, vf a, vf c)
  * hash bits 0-2 (2 instructions where shift, mask and xor are 3): a * -1 is
  * the exact negation, zeros and infinities included, and NaN stays NaN (every
  * output is canonicalized). */
-static inline vf vf_flip_bit(vf a, vi h, int b)
+/* vf_flip_sign(h, b): the +-1 factor itself (bump_tmpl.c folds a product
+ * with it into a vf_fma_exact). */
+#define BG_HAVE_FLIP_SIGN 1
+static inline vf vf_flip_sign(vi h, int b)
 {
     static const float sgn[2][8] = {{1, -1, 1, -1, 1, -1, 1, -1}, {1, 1, -1, -1, 1, 1, -1, -1}};
-    return _mm256_mul_ps(a, _mm256_permutevar8x32_ps(_mm256_loadu_ps(sgn[b]), h));
+    return _mm256_permutevar8x32_ps(_mm256_loadu_ps(sgn[b]), h);
 }
+static inline vf vf_flip_bit(vf a, vi h, int b) { return _mm256_mul_ps(a, vf_flip_sign(h, b)); }
 static inline vf vf_canon(vf a)
 {
     return _mm256_blendv_ps(a, _mm256_set1_ps(NAN), _mm256_cmp_ps(a, a, _CMP_UNORD_Q));
+}
+/* Whether a lane of a, b, c or d is NaN (unordered compares take two operands). */
+#define BG_HAVE_ANY_NAN4 1
+static inline int vf_any_nan4(vf a, vf b, vf c, vf d)
+{
+    return _mm256_movemask_ps(_mm256_or_ps(_mm256_cmp_ps(a, b, _CMP_UNORD_Q),
+                                           _mm256_cmp_ps(c, d, _CMP_UNORD_Q))) != 0;
 }
 /* tab[idx & 15]: vpermps uses index bits 0-2; bit 3 (moved to the sign)
  * picks the upper half. */

@@ -45,6 +45,10 @@ static inline vf vf_add(vf a, vf b) { return _mm512_add_ps(a, b); }
 static inline vf vf_sub(vf a, vf b) { return _mm512_sub_ps(a, b); }
 static inline vf vf_mul(vf a, vf b) { return _mm512_mul_ps(a, b); }
 static inline vf vf_div(vf a, vf b) { return _mm512_div_ps(a, b); }
+/* c + a b for an exact product only (bump_tmpl.c vf_fma_exact): then the
+ * fused rounding is the rounding of the sum. */
+#define BG_HAVE_FMA_EXACT 1
+static inline vf vf_fma_exact(vf a, vf b, vf c) { return _mm512_fmadd_ps(a, b, c); }
 static inline vf vf_sqrt(vf a) { return _mm512_sqrt_ps(a); }
 /* vrndscaleps with scale 0 toward -inf is IEEE floor (keeps -0, passes NaN). */
 static inline vf vf_floor(vf a) { return _mm512_roundscale_ps(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
@@ -180,6 +184,12 @@ static inline vf vf_flip_bit(vf a, vi h, int b)
 static inline vf vf_canon(vf a)
 {
     return _mm512_mask_mov_ps(a, _mm512_cmp_ps_mask(a, a, _CMP_UNORD_Q), _mm512_set1_ps(NAN));
+}
+/* Whether a lane of a, b, c or d is NaN (unordered compares take two operands). */
+#define BG_HAVE_ANY_NAN4 1
+static inline int vf_any_nan4(vf a, vf b, vf c, vf d)
+{
+    return (_mm512_cmp_ps_mask(a, b, _CMP_UNORD_Q) | _mm512_cmp_ps_mask(c, d, _CMP_UNORD_Q)) != 0;
 }
 
 /* The corners by table (bump_tmpl.c BG_GRAD_BY_TABLE): three vpermps of
