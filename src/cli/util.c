@@ -370,6 +370,27 @@ void cli_points_progress_init(cli_points_progress *p)
     p->prog.rows = &p->stats.rows;
 }
 
+int cli_points_run(const char *cmd, const cli_points_cmd *c, const cli_table_io *io, int json,
+                   int *threads, const void *args)
+{
+    if (json && strcmp(io->output, "-") == 0)
+        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
+    if (*threads == 0)
+        *threads = bgt_threads_default();
+    cli_points_progress pp;
+    cli_points_progress_init(&pp);
+    bgt_err err;
+    double t0 = cli_now();
+    bg_status st = c->call(args, &pp.sink, &pp.stats, &err);
+    double dt = cli_now() - t0;
+    if (st != BG_OK)
+        return cli_report(cmd, st, &err);
+    c->print_text(args, &pp.stats, dt);
+    if (json)
+        c->print_json(args, &pp.stats, dt);
+    return CLI_OK;
+}
+
 void cli_json_common(cli_json *j, const char *cmd, double seconds)
 {
     cli_json_str(j, "command", cmd);
