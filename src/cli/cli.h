@@ -36,10 +36,12 @@ extern const struct cli_spec cli_spec_bench, cli_spec_eval, cli_spec_perturb, cl
     cli_spec_stability, cli_spec_volume, cli_spec_heightmap, cli_spec_render, cli_spec_mesh;
 
 /* ---- messages ---- */
-/* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_USAGE for chaining. */
-int cli_usage_error(const char *cmd, const char *fmt, ...);
-/* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_FAIL. */
-int cli_fail(const char *cmd, const char *fmt, ...);
+/* "bumpgrad <cmd>: error: ..." on stderr ("bumpgrad: error: ..." when cmd is
+ * NULL or empty). Returns `code` for chaining: cli_usage_error returns
+ * CLI_USAGE, cli_fail CLI_FAIL. */
+int cli_error(int code, const char *cmd, const char *fmt, ...);
+#define cli_usage_error(...) cli_error(CLI_USAGE, __VA_ARGS__)
+#define cli_fail(...) cli_error(CLI_FAIL, __VA_ARGS__)
 
 /* ---- argument parsing: each returns 0 on success, else prints an error naming
  * the option and the bad text and returns CLI_USAGE ---- */
