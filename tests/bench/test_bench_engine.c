@@ -5,7 +5,7 @@
  * neither libnoise nor libstdc++. Timings are only checked to be positive and
  * ordered (min <= median <= max), never against a speed. The grid rows'
  * sub-grids are checked by the engine's own unit test
- * (src/tools/bench/test_bench_rows.c). */
+ * (src/tools/bench/test_bench_unit.c). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>

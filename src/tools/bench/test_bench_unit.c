@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
-/* The bench engine's own unit test (src/tools/bench/meson.build): the grid
- * rows (rows.c) split a thread's points into sub-grids of the lattice in
- * bench_internal.h, and whatever the split, the outputs must be those of one
- * grid call on the whole lattice. It sees bench_internal.h, which nothing
- * outside the tool includes; the engine as a library is tested through its
- * face by tests/bench/test_bench_engine.c. */
+/* The bench engine's own unit test (src/tools/bench/meson.build), for what
+ * only bench_internal.h shows, which nothing outside the tool includes: the
+ * grid rows (rows.c) split a thread's points into sub-grids of the lattice,
+ * and whatever the split, the outputs must be those of one grid call on the
+ * whole lattice. The engine as a library is tested through its face by
+ * tests/bench/test_bench_engine.c. */
 #include <stdlib.h>
 #include <string.h>
 #include "bench_internal.h"
@@ -62,5 +62,5 @@ static void check_grid_rows(void)
 int main(void)
 {
     check_grid_rows();
-    return check_summary("test_bench_rows");
+    return check_summary("test_bench_unit");
 }
