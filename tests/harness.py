@@ -54,6 +54,27 @@ def run(exe, args, stdin=None, env=None, cwd=None, timeout=120, preexec_fn=None,
             p.stderr.decode(errors="replace"))
 
 
+def eval_points(exe, pts, precision, args, tmp):
+    """`bumpgrad eval` over the points PTS (N x 3) in PRECISION ("float" or
+    "double"), one thread, with the extra ARGS, through CSV files in TMP,
+    the coordinates written to read back exactly (%.9g, %.17g). Returns the
+    value column and the N x 3 gradient, float32 for "float"."""
+    import numpy as np
+    fmt = "%.9g" if precision == "float" else "%.17g"
+    inp = os.path.join(tmp, "in.csv")
+    out = os.path.join(tmp, "out.csv")
+    with open(inp, "w") as f:
+        f.write("x,y,z\n")
+        for q in pts:
+            f.write(",".join(fmt % c for c in q) + "\n")
+    subprocess.run([exe, "eval", "--precision", precision, "--threads", "1", "-i", inp, "-o", out]
+                   + list(args), check=True)
+    t = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.float64)
+    if precision == "float":
+        t = t.astype(np.float32)
+    return t[:, 3], t[:, 4:7]
+
+
 def two_quads(d, left, right, names=("left", "right"), right_first=False):
     """A mesh fixture for the material tests: d/two.obj, two unit quads side
     by side facing +z, the left one in material names[0] (map_Kd `left`), the

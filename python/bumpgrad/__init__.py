@@ -318,6 +318,26 @@ def _domain(period, seed):
     return per, sd
 
 
+def _tool_height(function, gradient, octaves, lacunarity, gain, amplitude, frequency, step):
+    """The height arguments of the tool calls (volume_bake, bake_normal_map,
+    render), checked in this order: (function, gradient - 1, octaves,
+    lacunarity, gain, amplitude, frequency, step)."""
+    return (_choice("function", function, _FUNCTIONS),
+            _gradient(gradient, allow_none=False) - 1,
+            _int_arg("octaves", octaves, 1, MAX_OCTAVES),
+            _float_arg("lacunarity", lacunarity, "positive"),
+            _float_arg("gain", gain),
+            _float_arg("amplitude", amplitude),
+            _float_arg("frequency", frequency),
+            _float_arg("step", step, "positive"))
+
+
+def _progress_arg(progress):
+    """A tool call's progress= : a callable or None."""
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable or None, got {progress!r}")
+
+
 def _domain_fits(per, octaves, lacunarity):
     """bg_domain_validate's rules for a period, with the arguments named."""
     if not any(per):
@@ -944,19 +964,12 @@ def volume(bbox, voxel_size, path=None, *, band_sphere=None, function="turbulenc
             raise ValueError(f"band_sphere must be 5 numbers (cx, cy, cz, r, w), got {len(band)}")
         if path is None:
             raise ValueError("band_sphere needs path=: the array form is for dense boxes")
-    fn = _choice("function", function, _FUNCTIONS)
-    grad = _gradient(gradient, allow_none=False) - 1
-    octaves = _int_arg("octaves", octaves, 1, MAX_OCTAVES)
-    lacunarity = _float_arg("lacunarity", lacunarity, "positive")
-    gain = _float_arg("gain", gain)
-    amplitude = _float_arg("amplitude", amplitude)
-    frequency = _float_arg("frequency", frequency)
-    step = _float_arg("step", step, "positive")
+    fn, grad, octaves, lacunarity, gain, amplitude, frequency, step = _tool_height(
+        function, gradient, octaves, lacunarity, gain, amplitude, frequency, step)
     dom = _domain(period, seed)
     _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
-    if progress is not None and not callable(progress):
-        raise TypeError(f"progress must be callable or None, got {progress!r}")
+    _progress_arg(progress)
 
     bi, bn = 0, 0
     if brick is not None:
@@ -1055,14 +1068,8 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
         h = _int_arg("size[1]", size[1], 1, 1 << 16)
     else:
         w = h = _int_arg("size", size, 1, 1 << 16)
-    fn = _choice("function", function, _FUNCTIONS)
-    grad = _gradient(gradient, allow_none=False) - 1
-    octaves = _int_arg("octaves", octaves, 1, MAX_OCTAVES)
-    lacunarity = _float_arg("lacunarity", lacunarity, "positive")
-    gain = _float_arg("gain", gain)
-    amplitude = _float_arg("amplitude", amplitude)
-    frequency = _float_arg("frequency", frequency)
-    step = _float_arg("step", step, "positive")
+    fn, grad, octaves, lacunarity, gain, amplitude, frequency, step = _tool_height(
+        function, gradient, octaves, lacunarity, gain, amplitude, frequency, step)
     m = _choice("method", method, _METHODS)
     sp = _choice("space", space, _SPACES)
     tg = _choice("tangents", tangents, _TANGENTS)
@@ -1072,8 +1079,7 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     dom = _domain(period, seed)
     _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
-    if progress is not None and not callable(progress):
-        raise TypeError(f"progress must be callable or None, got {progress!r}")
+    _progress_arg(progress)
     mesh_path = _os.fsdecode(mesh_path)
     if not isinstance(recompute_normals, (bool, _np.bool_)):
         raise TypeError(f"recompute_normals must be True or False, got {recompute_normals!r}")
@@ -1138,19 +1144,12 @@ def render(scene="sphere", *, mesh=None, size=384, method="surfgrad", spp=1,
         raise TypeError(f"scene must be a string, got {scene!r}")
     if not isinstance(method, str):
         raise TypeError(f"method must be a string, got {method!r}")
-    fn = _choice("function", function, _FUNCTIONS)
-    grad = _gradient(gradient, allow_none=False) - 1
-    octaves = _int_arg("octaves", octaves, 1, MAX_OCTAVES)
-    lacunarity = _float_arg("lacunarity", lacunarity, "positive")
-    gain = _float_arg("gain", gain)
-    amplitude = _float_arg("amplitude", amplitude)
-    frequency = _float_arg("frequency", frequency)
-    step = _float_arg("step", step, "positive")
+    fn, grad, octaves, lacunarity, gain, amplitude, frequency, step = _tool_height(
+        function, gradient, octaves, lacunarity, gain, amplitude, frequency, step)
     per, sd = _domain(period, seed)
     _domain_fits(per, octaves, float(_np.float32(lacunarity)))
     nt = _threads(threads)
-    if progress is not None and not callable(progress):
-        raise TypeError(f"progress must be callable or None, got {progress!r}")
+    _progress_arg(progress)
     mesh = None if mesh is None else _os.fsdecode(mesh)
     import tempfile
     with tempfile.TemporaryDirectory(prefix="bumpgrad-render-") as tmp:

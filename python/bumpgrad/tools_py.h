@@ -109,6 +109,65 @@ static void progress_end(void *ctx)
     progress_call(p, p->total);
 }
 
+/* The tool calls: the options, the result (none for heightmap) and the error
+ * of bgt_<tool>_run. */
+typedef bg_status (*tool_run)(const void *opts, void *result, bgt_err *e);
+static bg_status run_heightmap(const void *o, void *r, bgt_err *e)
+{
+    (void)r;
+    return bgt_heightmap_run(o, e);
+}
+
+/* read_image and write_image: the I/O module (bgt_io_ready), then the shim. */
+typedef struct image_io {
+    const char *path;
+    bg_image *img;
+    bg_pixel_type type; /* write only */
+    int srgb;           /* write only */
+} image_io;
+
+static bg_status run_read_image(const void *o, void *r, bgt_err *e)
+{
+    const image_io *io = o;
+    (void)r;
+    bg_status s = bgt_io_ready(e);
+    return s != BG_OK ? s : bg_image_read(io->path, io->img, e->msg, sizeof e->msg);
+}
+
+static bg_status run_write_image(const void *o, void *r, bgt_err *e)
+{
+    const image_io *io = o;
+    (void)r;
+    bg_status s = bgt_io_ready(e);
+    return s != BG_OK ? s
+                      : bg_image_write(io->path, io->img, io->type, io->srgb, e->msg,
+                                       sizeof e->msg);
+}
+static bg_status run_mesh(const void *o, void *r, bgt_err *e) { return bgt_mesh_run(o, r, e); }
+static bg_status run_volume(const void *o, void *r, bgt_err *e) { return bgt_volume_run(o, r, e); }
+static bg_status run_render(const void *o, void *r, bgt_err *e) { return bgt_render_run(o, r, e); }
+
+/* One tool call from Python: *progress (the options' progress field; NULL
+ * for a tool without one) drives `cb` unless it is None, the tool runs
+ * without the GIL, then tool_failed. 0 on success; -1 with the exception set. */
+static int call_tool(tool_run run, const void *opts, void *result, PyObject *cb,
+                     const bgt_progress **progress)
+{
+    py_progress pp = {.cb = cb};
+    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
+    if (progress && cb != Py_None)
+        *progress = &sink;
+    bgt_err e;
+    bgt_err_clear(&e);
+    bg_status s;
+    Py_BEGIN_ALLOW_THREADS
+    s = run(opts, result, &e);
+    Py_END_ALLOW_THREADS
+    if (progress)
+        *progress = NULL; /* the sink lives only for this call */
+    return tool_failed(&pp, s, &e) ? -1 : 0;
+}
+
 /* mesh_bake(input, path, width, height, function, octaves, lacunarity, gain, amplitude,
  *           frequency, gradient, step, method, space, padding, tangents, green_down,
  *           recompute_normals, depth, threads, progress|None, (px, py, pz), seed)
@@ -148,18 +207,8 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     o.bake.green_down = green_down;
     o.bake.only_tile = only_tile;
     o.bake_depth = depth;
-    py_progress pp = {.cb = cb};
-    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
-    if (cb != Py_None)
-        o.progress = &sink;
     bgt_mesh_result r;
-    bgt_err e;
-    bgt_err_clear(&e);
-    bg_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = bgt_mesh_run(&o, &r, &e);
-    Py_END_ALLOW_THREADS
-    if (tool_failed(&pp, s, &e))
+    if (call_tool(run_mesh, &o, &r, cb, &o.progress))
         return NULL;
     PyObject *tiles = PyList_New((Py_ssize_t)r.bake.tiles);
     if (!tiles)
@@ -180,16 +229,9 @@ static PyObject *py_read_image(PyObject *self, PyObject *args)
         return NULL;
     bg_image img;
     memset(&img, 0, sizeof img);
-    bgt_err e;
-    bgt_err_clear(&e);
-    bg_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = bgt_io_ready(&e);
-    if (s == BG_OK)
-        s = bg_image_read(path, &img, e.msg, sizeof e.msg);
-    Py_END_ALLOW_THREADS
-    if (s != BG_OK)
-        return raise_tool(s, &e);
+    image_io io = {.path = path, .img = &img};
+    if (call_tool(run_read_image, &io, NULL, Py_None, NULL))
+        return NULL;
     npy_intp dims[3] = {img.height, img.width, img.channels};
     PyObject *a = PyArray_SimpleNew(3, dims, NPY_FLOAT32);
     if (a)
@@ -217,16 +259,9 @@ static PyObject *py_write_image(PyObject *self, PyObject *args)
     PyArrayObject *a = (PyArrayObject *)o;
     bg_image img = {.width = (int)PyArray_DIM(a, 1), .height = (int)PyArray_DIM(a, 0),
                     .channels = (int)PyArray_DIM(a, 2), .pixels = PyArray_DATA(a)};
-    bgt_err e;
-    bgt_err_clear(&e);
-    bg_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = bgt_io_ready(&e);
-    if (s == BG_OK)
-        s = bg_image_write(path, &img, (bg_pixel_type)type, srgb, e.msg, sizeof e.msg);
-    Py_END_ALLOW_THREADS
-    if (s != BG_OK)
-        return raise_tool(s, &e);
+    image_io io = {.path = path, .img = &img, .type = (bg_pixel_type)type, .srgb = srgb};
+    if (call_tool(run_write_image, &io, NULL, Py_None, NULL))
+        return NULL;
     Py_RETURN_NONE;
 }
 
@@ -241,14 +276,8 @@ static PyObject *py_heightmap(PyObject *self, PyObject *args)
                           &o.y_down, &o.to_derivative, &o.bits))
         return NULL;
     o.gray = (bgt_gray)gray;
-    bgt_err e;
-    bgt_err_clear(&e);
-    bg_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = bgt_heightmap_run(&o, &e);
-    Py_END_ALLOW_THREADS
-    if (s != BG_OK)
-        return raise_tool(s, &e);
+    if (call_tool(run_heightmap, &o, NULL, Py_None, NULL))
+        return NULL;
     Py_RETURN_NONE;
 }
 
@@ -279,18 +308,8 @@ static PyObject *py_volume_bake(PyObject *self, PyObject *args)
     bgt_height h;
     height_from_args(&h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
     o.height = &h;
-    py_progress pp = {.cb = cb};
-    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
-    if (cb != Py_None)
-        o.progress = &sink;
     bgt_volume_result r;
-    bgt_err e;
-    bgt_err_clear(&e);
-    bg_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = bgt_volume_run(&o, &r, &e);
-    Py_END_ALLOW_THREADS
-    if (tool_failed(&pp, s, &e))
+    if (call_tool(run_volume, &o, &r, cb, &o.progress))
         return NULL;
     return Py_BuildValue("(K(LLL)(LLL))", (unsigned long long)r.voxels, r.lo[0], r.lo[1], r.lo[2],
                          r.hi[0], r.hi[1], r.hi[2]);
@@ -460,19 +479,9 @@ static PyObject *py_render(PyObject *self, PyObject *args)
     o.threads = threads;
     bg_domain dom = {{period[0], period[1], period[2]}, seed};
     height_from_args(&o.h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
-    py_progress pp = {.cb = cb};
-    bgt_progress sink = {progress_begin, progress_update, progress_end, &pp};
-    if (cb != Py_None)
-        o.progress = &sink;
     render_result r;
     memset(&r, 0, sizeof r);
-    bgt_err e;
-    bgt_err_clear(&e);
-    bg_status s;
-    Py_BEGIN_ALLOW_THREADS
-    s = bgt_render_run(&o, &r, &e);
-    Py_END_ALLOW_THREADS
-    if (tool_failed(&pp, s, &e))
+    if (call_tool(run_render, &o, &r, cb, &o.progress))
         return NULL;
     return Py_BuildValue("(iisn)", r.out_width, r.out_height, r.tracer ? r.tracer : "",
                          (Py_ssize_t)r.triangles);

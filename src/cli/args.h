@@ -38,6 +38,7 @@
 
 #include <stddef.h>
 #include <stdio.h>
+#include "points/points.h" /* bgt_row_range, the --rows of cli_table_io */
 
 typedef enum cli_opt_kind {
     CLI_KIND_END = 0,
@@ -169,10 +170,7 @@ extern const char cli_height_heading[];
  * required, relative to a cli_table_io. */
 typedef struct cli_table_io {
     const char *input, *output;
-    struct cli_rows {
-        int have;
-        size_t begin, end; /* end SIZE_MAX: to the last row */
-    } rows;                /* --rows A:B (a .npy input's rows A..B-1) */
+    bgt_row_range rows; /* --rows A:B (a .npy input's rows A..B-1; points.h) */
 } cli_table_io;
 extern const cli_opt cli_table_io_opts[];
 /* --threads N (0 = all cores, up to 1024), relative to an int. */

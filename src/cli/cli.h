@@ -36,10 +36,12 @@ extern const struct cli_spec cli_spec_bench, cli_spec_eval, cli_spec_perturb, cl
     cli_spec_stability, cli_spec_volume, cli_spec_heightmap, cli_spec_render, cli_spec_mesh;
 
 /* ---- messages ---- */
-/* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_USAGE for chaining. */
-int cli_usage_error(const char *cmd, const char *fmt, ...);
-/* "bumpgrad <cmd>: error: ..." on stderr. Returns CLI_FAIL. */
-int cli_fail(const char *cmd, const char *fmt, ...);
+/* "bumpgrad <cmd>: error: ..." on stderr ("bumpgrad: error: ..." when cmd is
+ * NULL or empty). Returns `code` for chaining: cli_usage_error returns
+ * CLI_USAGE, cli_fail CLI_FAIL. */
+int cli_error(int code, const char *cmd, const char *fmt, ...);
+#define cli_usage_error(...) cli_error(CLI_USAGE, __VA_ARGS__)
+#define cli_fail(...) cli_error(CLI_FAIL, __VA_ARGS__)
 
 /* ---- argument parsing: each returns 0 on success, else prints an error naming
  * the option and the bad text and returns CLI_USAGE ---- */
@@ -108,6 +110,20 @@ typedef struct cli_points_progress {
     bgt_points_stats stats;
 } cli_points_progress;
 void cli_points_progress_init(cli_points_progress *p);
+/* The table commands' one driver (eval, perturb): --json needs --output FILE,
+ * 0 threads means all cores (*threads is set), the progress line counts rows,
+ * the tool call is timed, a failure reported, then print_text, and print_json
+ * with --json. Each hook gets the command's own `args`. Returns the exit code. */
+typedef struct cli_points_cmd {
+    /* The tool (bgt_eval_run, bgt_perturb_run) with the progress sink and the statistics. */
+    bg_status (*call)(const void *args, const bgt_progress *progress, bgt_points_stats *stats,
+                      bgt_err *e);
+    void (*print_text)(const void *args, const bgt_points_stats *stats, double dt);
+    void (*print_json)(const void *args, const bgt_points_stats *stats, double dt);
+} cli_points_cmd;
+struct cli_table_io;
+int cli_points_run(const char *cmd, const cli_points_cmd *c, const struct cli_table_io *io,
+                   int json, int *threads, const void *args);
 
 /* ---- height-function options shared by perturb, render, mesh, volume,
  * heightmap: the table fragment cli_height_opts (args.h, heightopt.c). ---- */

@@ -88,16 +88,18 @@ CLI_SPEC(eval,
 );
 
 /* With -v: the rows, the time, the ISA and the threads (stderr). */
-static void print_text(const eval_args *a, const bgt_points_stats *stats, double dt)
+static void print_text(const void *args, const bgt_points_stats *stats, double dt)
 {
+    const eval_args *a = args;
     const char *cmd = "eval";
     cli_info(cmd, "%zu rows in %.3f s (%s, %d threads)", stats->rows, dt,
              bg_isa_name(bg_isa_active()), a->threads);
 }
 
 /* One JSON object of statistics and every parameter (--json). */
-static void print_json(const eval_args *a, const bgt_points_stats *stats, double dt)
+static void print_json(const void *args, const bgt_points_stats *stats, double dt)
 {
+    const eval_args *a = args;
     const char *cmd = "eval";
     cli_json j;
     cli_json_points_begin(&j, cmd, dt, stats->rows);
@@ -115,6 +117,19 @@ static void print_json(const eval_args *a, const bgt_points_stats *stats, double
     cli_json_end(&j);
 }
 
+/* The tool call (cli_points_run). */
+static bg_status call_eval(const void *args, const bgt_progress *progress,
+                           bgt_points_stats *stats, bgt_err *e)
+{
+    const eval_args *a = args;
+    bgt_eval_opts opts = {.input = a->io.input, .output = a->io.output, .fractal = a->fractal,
+                          .domain = a->domain, .central = a->central, .dbl = a->dbl,
+                          .step = a->step, .threads = a->threads,
+                          .allow_nonfinite = a->allow_nonfinite,
+                          .rows = a->io.rows, .progress = progress, .stats = stats};
+    return bgt_eval_run(&opts, e);
+}
+
 static int run_eval(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
@@ -130,27 +145,6 @@ static int run_eval(void *args, const char *const *pos, int npos)
                                     "gradient (no double central differences over a domain)");
     if (!a.dbl && !((float)a.step > 0))
         return cli_usage_error(cmd, "--step %g is zero in float precision", a.step);
-    if (a.json && strcmp(a.io.output, "-") == 0)
-        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
-    if (a.threads == 0)
-        a.threads = bgt_threads_default();
-
-    cli_points_progress pp;
-    cli_points_progress_init(&pp);
-    bgt_points_stats *const stats = &pp.stats;
-    bgt_eval_opts opts = {.input = a.io.input, .output = a.io.output, .fractal = a.fractal,
-                          .domain = a.domain, .central = a.central, .dbl = a.dbl, .step = a.step,
-                          .threads = a.threads, .allow_nonfinite = a.allow_nonfinite,
-                          .rows = {a.io.rows.have, a.io.rows.begin, a.io.rows.end},
-                          .progress = &pp.sink, .stats = stats};
-    bgt_err err;
-    double t0 = cli_now();
-    bg_status st = bgt_eval_run(&opts, &err);
-    double dt = cli_now() - t0;
-    if (st != BG_OK)
-        return cli_report(cmd, st, &err);
-    print_text(&a, stats, dt);
-    if (a.json)
-        print_json(&a, stats, dt);
-    return CLI_OK;
+    static const cli_points_cmd c = {call_eval, print_text, print_json};
+    return cli_points_run(cmd, &c, &a.io, a.json, &a.threads, &a);
 }

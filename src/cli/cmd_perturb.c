@@ -75,8 +75,9 @@ CLI_SPEC(perturb,
 
 /* A warning when a --height-grid missed every point; with -v, the points in
  * its active box, the rows, the time, the ISA and the threads (stderr). */
-static void print_text(const perturb_args *a, const bgt_points_stats *stats, double dt)
+static void print_text(const void *args, const bgt_points_stats *stats, double dt)
 {
+    const perturb_args *a = args;
     const char *cmd = "perturb";
     const double *gb = stats->grid_box;
     if (stats->grid && stats->rows > 0 && stats->in_grid == 0)
@@ -92,8 +93,9 @@ static void print_text(const perturb_args *a, const bgt_points_stats *stats, dou
 }
 
 /* One JSON object of statistics and every parameter (--json). */
-static void print_json(const perturb_args *a, const bgt_points_stats *stats, double dt)
+static void print_json(const void *args, const bgt_points_stats *stats, double dt)
 {
+    const perturb_args *a = args;
     const char *cmd = "perturb";
     const double *gb = stats->grid_box;
     cli_json j;
@@ -116,31 +118,23 @@ static void print_json(const perturb_args *a, const bgt_points_stats *stats, dou
     cli_json_end(&j);
 }
 
+/* The tool call (cli_points_run). */
+static bg_status call_perturb(const void *args, const bgt_progress *progress,
+                              bgt_points_stats *stats, bgt_err *e)
+{
+    const perturb_args *a = args;
+    bgt_perturb_opts opts = {.input = a->io.input, .output = a->io.output, .height = &a->height,
+                             .method = (bg_perturb_method)a->method, .threads = a->threads,
+                             .allow_nonfinite = a->allow_nonfinite,
+                             .rows = a->io.rows, .progress = progress, .stats = stats};
+    return bgt_perturb_run(&opts, e);
+}
+
 static int run_perturb(void *args, const char *const *pos, int npos)
 {
     (void)pos, (void)npos;
     const char *cmd = "perturb";
     perturb_args a = *(perturb_args *)args;
-    if (a.json && strcmp(a.io.output, "-") == 0)
-        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
-    if (a.threads == 0)
-        a.threads = bgt_threads_default();
-
-    cli_points_progress pp;
-    cli_points_progress_init(&pp);
-    bgt_points_stats *const stats = &pp.stats;
-    bgt_perturb_opts opts = {.input = a.io.input, .output = a.io.output, .height = &a.height,
-                             .method = (bg_perturb_method)a.method, .threads = a.threads,
-                             .allow_nonfinite = a.allow_nonfinite,
-                             .rows = {a.io.rows.have, a.io.rows.begin, a.io.rows.end}, .progress = &pp.sink, .stats = stats};
-    bgt_err err;
-    double t0 = cli_now();
-    bg_status st = bgt_perturb_run(&opts, &err);
-    double dt = cli_now() - t0;
-    if (st != BG_OK)
-        return cli_report(cmd, st, &err);
-    print_text(&a, stats, dt);
-    if (a.json)
-        print_json(&a, stats, dt);
-    return CLI_OK;
+    static const cli_points_cmd c = {call_perturb, print_text, print_json};
+    return cli_points_run(cmd, &c, &a.io, a.json, &a.threads, &a);
 }

@@ -174,7 +174,7 @@ const char cli_height_heading[] = "Height function h(p) = A * F(f * p):";
 /* "A:B", "A:" or ":B", non-negative integers, A <= B. */
 static int parse_rows(const char *cmd, const char *opt, char *text, void *field)
 {
-    struct cli_rows *r = field;
+    bgt_row_range *r = field;
     const char *colon = strchr(text, ':');
     unsigned long long v[2] = {0, 0};
     int open_end = 0, bad = !colon;

@@ -17,32 +17,25 @@
 #include <time.h>
 #include <unistd.h>
 
-static void vmessage(const char *cmd, const char *fmt, va_list ap)
+/* The one message writer: "bumpgrad <cmd>: <kind>..." on stderr ("bumpgrad:
+ * <kind>..." without a command), kind "error: ", "warning: " or "". */
+static void vmessage(const char *cmd, const char *kind, const char *fmt, va_list ap)
 {
     if (cmd && *cmd)
-        fprintf(stderr, "bumpgrad %s: error: ", cmd);
+        fprintf(stderr, "bumpgrad %s: %s", cmd, kind);
     else
-        fputs("bumpgrad: error: ", stderr);
+        fprintf(stderr, "bumpgrad: %s", kind);
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
 }
 
-int cli_usage_error(const char *cmd, const char *fmt, ...)
+int cli_error(int code, const char *cmd, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vmessage(cmd, fmt, ap);
+    vmessage(cmd, "error: ", fmt, ap);
     va_end(ap);
-    return CLI_USAGE;
-}
-
-int cli_fail(const char *cmd, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vmessage(cmd, fmt, ap);
-    va_end(ap);
-    return CLI_FAIL;
+    return code;
 }
 
 /* strtod/strtof skip leading blanks; a value with blanks around it most likely
@@ -143,9 +136,7 @@ void cli_warn(const char *cmd, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "bumpgrad %s: warning: ", cmd);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vmessage(cmd, "warning: ", fmt, ap);
     va_end(ap);
 }
 
@@ -155,9 +146,7 @@ void cli_info(const char *cmd, const char *fmt, ...)
         return;
     va_list ap;
     va_start(ap, fmt);
-    fprintf(stderr, "bumpgrad %s: ", cmd);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vmessage(cmd, "", fmt, ap);
     va_end(ap);
 }
 
@@ -368,6 +357,27 @@ void cli_points_progress_init(cli_points_progress *p)
     p->sink = cli_progress_sink(&p->prog);
     memset(&p->stats, 0, sizeof p->stats);
     p->prog.rows = &p->stats.rows;
+}
+
+int cli_points_run(const char *cmd, const cli_points_cmd *c, const cli_table_io *io, int json,
+                   int *threads, const void *args)
+{
+    if (json && strcmp(io->output, "-") == 0)
+        return cli_usage_error(cmd, "--json writes to standard output: give --output a file");
+    if (*threads == 0)
+        *threads = bgt_threads_default();
+    cli_points_progress pp;
+    cli_points_progress_init(&pp);
+    bgt_err err;
+    double t0 = cli_now();
+    bg_status st = c->call(args, &pp.sink, &pp.stats, &err);
+    double dt = cli_now() - t0;
+    if (st != BG_OK)
+        return cli_report(cmd, st, &err);
+    c->print_text(args, &pp.stats, dt);
+    if (json)
+        c->print_json(args, &pp.stats, dt);
+    return CLI_OK;
 }
 
 void cli_json_common(cli_json *j, const char *cmd, double seconds)

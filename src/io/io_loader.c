@@ -85,34 +85,33 @@ static char *host_temp_path(const char *path, char *err, size_t errlen)
     return t;
 }
 
+/* A host call's status, its message copied to the module's buffer on failure. */
+static int host_result(bg_status s, const bgt_err *e, char *err, size_t errlen)
+{
+    if (s != BG_OK)
+        copy_err(e, err, errlen);
+    return s;
+}
+
 static int host_commit_path(const char *tmp, const char *path, char *err, size_t errlen)
 {
     bgt_err e;
     bgt_err_clear(&e);
-    bg_status s = bgt_safe_commit_path(tmp, path, &e);
-    if (s != BG_OK)
-        copy_err(&e, err, errlen);
-    return s;
+    return host_result(bgt_safe_commit_path(tmp, path, &e), &e, err, errlen);
 }
 
 static int host_check_alloc(double bytes, const char *what, char *err, size_t errlen)
 {
     bgt_err e;
     bgt_err_clear(&e);
-    bg_status s = bgt_check_alloc(bytes, what, &e);
-    if (s != BG_OK)
-        copy_err(&e, err, errlen);
-    return s;
+    return host_result(bgt_check_alloc(bytes, what, &e), &e, err, errlen);
 }
 
 static int host_env_uint(const char *name, unsigned long long *out, char *err, size_t errlen)
 {
     bgt_err e;
     bgt_err_clear(&e);
-    bg_status s = bgt_env_uint(name, out, &e);
-    if (s != BG_OK)
-        copy_err(&e, err, errlen);
-    return s;
+    return host_result(bgt_env_uint(name, out, &e), &e, err, errlen);
 }
 
 static const bg_io_host host_services = {

@@ -139,13 +139,13 @@ uint64_t bg_vdb_writer_voxel_count(const bg_vdb_writer *w)
     return w ? static_cast<uint64_t>(w->height->activeVoxelCount()) : 0;
 }
 
-bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *err, size_t errlen)
+// The one VDB file writer: `collect` fills the grids (inside the exception
+// guard), which go to a temporary next to `path`; io::File does not report a
+// short write (full disk, file size limit), so the finished temporary is read
+// back in full before it may replace anything.
+template <class Collect>
+static bg_status write_grids(const char *path, Collect collect, char *err, size_t errlen)
 {
-    bg_io_set_error(err, errlen, "%s", "");
-    if (!w || !path) {
-        bg_io_set_error(err, errlen, "bg_vdb_writer_write: NULL argument");
-        return BG_ERR_NULL_POINTER;
-    }
     std::string tmp;
     bg_status st = bg_io_make_temp(path, &tmp, err, errlen);
     if (st != BG_OK)
@@ -153,21 +153,10 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
     st = bg_io_guard("cannot write '" + std::string(path) + "'", "out of memory", "", BG_ERR_IO,
                      err, errlen, [&] {
         vdb::GridCPtrVec grids;
-        // Same metadata on both grids: each stays self-describing if split off.
-        for (vdb::GridBase::Ptr g : {vdb::GridBase::Ptr(w->height), vdb::GridBase::Ptr(w->gradient)}) {
-            if (!g)
-                continue;
-            for (auto it = w->meta.beginMeta(); it != w->meta.endMeta(); ++it)
-                g->insertMeta(it->first, *it->second);
-            g->setCreator("bumpgrad " BG_IO_VERSION_STRING);
-            grids.push_back(g);
-        }
+        collect(grids);
         vdb::io::File file(tmp);
         file.write(grids);
         file.close();
-        // io::File does not report a short write (full disk, file size limit):
-        // the finished temporary is read back in full before it may replace
-        // anything.
         vdb::io::File check(tmp);
         check.open(false);
         size_t n = 0;
@@ -182,6 +171,26 @@ bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *er
     if (st != BG_OK)
         return st;
     return bg_io_commit_temp(tmp, path, err, errlen);
+}
+
+bg_status bg_vdb_writer_write(const bg_vdb_writer *w, const char *path, char *err, size_t errlen)
+{
+    bg_io_set_error(err, errlen, "%s", "");
+    if (!w || !path) {
+        bg_io_set_error(err, errlen, "bg_vdb_writer_write: NULL argument");
+        return BG_ERR_NULL_POINTER;
+    }
+    return write_grids(path, [&](vdb::GridCPtrVec &grids) {
+        // Same metadata on both grids: each stays self-describing if split off.
+        for (vdb::GridBase::Ptr g : {vdb::GridBase::Ptr(w->height), vdb::GridBase::Ptr(w->gradient)}) {
+            if (!g)
+                continue;
+            for (auto it = w->meta.beginMeta(); it != w->meta.endMeta(); ++it)
+                g->insertMeta(it->first, *it->second);
+            g->setCreator("bumpgrad " BG_IO_VERSION_STRING);
+            grids.push_back(g);
+        }
+    }, err, errlen);
 }
 
 void bg_vdb_writer_free(bg_vdb_writer *w)
@@ -211,40 +220,62 @@ static std::string grid_list(const vdb::GridPtrVec &grids)
     return s.empty() ? std::string("none") : s;
 }
 
+// How reading every grid of a file through a stream ended (read_grid_stream).
+enum class stream_read { ok, cannot_open, past_end, no_memory, corrupt };
+
+// The one reader of whole VDB files (the height reader's and the merge's):
+// every grid of `path` through a stream with exceptions on. Why not
+// io::File: OpenVDB does not check its reads, so in a truncated file it takes
+// whatever is left in a length field past the end as a size and tries to
+// allocate gigabytes (seen with a file cut to 20%). With failbit raising, the
+// first read past the end throws instead. The stream reader loads every grid,
+// which also checks the whole file, at the cost of reading grids a caller
+// may drop. `what` gets the exception's text of a corrupt file.
+static stream_read read_grid_stream(const char *path, vdb::GridPtrVecPtr *grids, char *what,
+                                    size_t whatlen)
+{
+    std::ifstream is(path, std::ios::in | std::ios::binary);
+    if (!is)
+        return stream_read::cannot_open;
+    is.exceptions(std::ios::failbit | std::ios::badbit);
+    try {
+        vdb::io::Stream stream(is, false);
+        *grids = stream.getGrids();
+        return stream_read::ok;
+    } catch (const std::ios_base::failure &) {
+        return stream_read::past_end;
+    } catch (const std::bad_alloc &) {
+        return stream_read::no_memory;
+    } catch (const std::exception &e) {
+        std::snprintf(what, whatlen, "%s", e.what());
+        return stream_read::corrupt;
+    }
+}
+
 static bg_status open_impl(const char *path, const char *grid_name, bg_vdb_height **out, char *err,
                            size_t errlen)
 {
     init_vdb();
-    // Why a stream with exceptions and not io::File: OpenVDB does not check
-    // its reads, so in a truncated file it takes whatever is left in a length
-    // field past the end as a size and tries to allocate gigabytes (seen with
-    // a file cut to 20%). With failbit raising, the first read past the end
-    // throws instead. The stream reader loads every grid, which also checks
-    // the whole file, at the cost of reading grids we then drop.
     vdb::GridPtrVecPtr grids;
-    {
-        std::ifstream is(path, std::ios::in | std::ios::binary);
-        if (!is) {
-            bg_io_set_error(err, errlen, "'%s': cannot open", path);
-            return BG_ERR_IO;
-        }
-        is.exceptions(std::ios::failbit | std::ios::badbit);
-        try {
-            vdb::io::Stream stream(is, false);
-            grids = stream.getGrids();
-        } catch (const std::ios_base::failure &) {
-            bg_io_set_error(err, errlen, "'%s': truncated or corrupt VDB file (read past its end)",
-                            path);
-            return BG_ERR_FORMAT;
-        } catch (const std::bad_alloc &) {
-            // OUT_OF_MEMORY, not FORMAT: in the probe child that is exit 4,
-            // which the parent must not retry without the child's cap.
-            bg_io_set_error(err, errlen, "'%s': corrupt VDB file (or out of memory)", path);
-            return BG_ERR_OUT_OF_MEMORY;
-        } catch (const std::exception &e) {
-            bg_io_set_error(err, errlen, "'%s': not a VDB file, or corrupt (%s)", path, e.what());
-            return BG_ERR_FORMAT;
-        }
+    char what[1024];
+    switch (read_grid_stream(path, &grids, what, sizeof what)) {
+    case stream_read::ok:
+        break;
+    case stream_read::cannot_open:
+        bg_io_set_error(err, errlen, "'%s': cannot open", path);
+        return BG_ERR_IO;
+    case stream_read::past_end:
+        bg_io_set_error(err, errlen, "'%s': truncated or corrupt VDB file (read past its end)",
+                        path);
+        return BG_ERR_FORMAT;
+    case stream_read::no_memory:
+        // OUT_OF_MEMORY, not FORMAT: in the probe child that is exit 4,
+        // which the parent must not retry without the child's cap.
+        bg_io_set_error(err, errlen, "'%s': corrupt VDB file (or out of memory)", path);
+        return BG_ERR_OUT_OF_MEMORY;
+    case stream_read::corrupt:
+        bg_io_set_error(err, errlen, "'%s': not a VDB file, or corrupt (%s)", path, what);
+        return BG_ERR_FORMAT;
     }
     if (!grids)
         grids = std::make_shared<vdb::GridPtrVec>();
@@ -868,23 +899,22 @@ static bg_status read_brick(const char *path, vdb::GridPtrVecPtr *grids, char *e
         return st;
     if ((st = probe_in_child(path, "height", err, errlen)) != BG_OK)
         return st;
-    std::ifstream is(path, std::ios::in | std::ios::binary);
-    if (!is) {
+    char what[1024];
+    switch (read_grid_stream(path, grids, what, sizeof what)) {
+    case stream_read::ok:
+        return BG_OK;
+    case stream_read::cannot_open:
         bg_io_set_error(err, errlen, "'%s': cannot open", path);
         return BG_ERR_IO;
-    }
-    is.exceptions(std::ios::failbit | std::ios::badbit);
-    try {
-        vdb::io::Stream stream(is, false);
-        *grids = stream.getGrids();
-    } catch (const std::bad_alloc &) {
+    case stream_read::no_memory:
         bg_io_set_error(err, errlen, "'%s': out of memory reading the grids", path);
         return BG_ERR_OUT_OF_MEMORY;
-    } catch (const std::exception &) {
-        bg_io_set_error(err, errlen, "'%s': truncated or corrupt VDB file", path);
-        return BG_ERR_FORMAT;
+    case stream_read::past_end:
+    case stream_read::corrupt:
+        break;
     }
-    return BG_OK;
+    bg_io_set_error(err, errlen, "'%s': truncated or corrupt VDB file", path);
+    return BG_ERR_FORMAT;
 }
 
 template <typename GridT>
@@ -969,29 +999,7 @@ bg_status bg_vdb_merge(const char *const *inputs, size_t n, const char *output, 
                             (unsigned long long)expect[g]);
             return BG_ERR_INVALID_ARGUMENT;
         }
-    std::string tmp;
-    bg_status st = bg_io_make_temp(output, &tmp, err, errlen);
-    if (st != BG_OK)
-        return st;
-    st = bg_io_guard("cannot write '" + std::string(output) + "'", "out of memory", "", BG_ERR_IO,
-                     err, errlen, [&] {
-        vdb::GridCPtrVec grids(base->begin(), base->end());
-        vdb::io::File file(tmp);
-        file.write(grids);
-        file.close();
-        // As bg_vdb_writer_write: read back in full before it may replace anything.
-        vdb::io::File check(tmp);
-        check.open(false);
-        size_t count = 0;
-        for (auto it = check.beginName(); it != check.endName(); ++it, ++count)
-            if (!check.readGrid(it.gridName()))
-                throw std::runtime_error("a grid does not read back");
-        check.close();
-        if (count != grids.size())
-            throw std::runtime_error("the file read back has another number of grids");
-        return BG_OK;
-    }, [&] { bg_io_discard_temp(tmp); });
-    if (st != BG_OK)
-        return st;
-    return bg_io_commit_temp(tmp, output, err, errlen);
+    return write_grids(output, [&](vdb::GridCPtrVec &grids) {
+        grids.assign(base->begin(), base->end());
+    }, err, errlen);
 }

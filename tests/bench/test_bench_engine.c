@@ -3,14 +3,16 @@
  * the selection, the ratios, the icount file and the errors behave as bench.h
  * says. A peer of the test's own stands in for the real ones, so this links
  * neither libnoise nor libstdc++. Timings are only checked to be positive and
- * ordered (min <= median <= max), never against a speed. */
+ * ordered (min <= median <= max), never against a speed. The grid rows'
+ * sub-grids are checked by the engine's own unit test
+ * (src/tools/bench/test_bench_unit.c). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/bench_internal.h" /* bench_job_run, the grid rows' lattice */
-#include "check.h"             /* tests/core: CHECK, check_failures */
+#include "bench/bench.h"
+#include "common/check.h"
 
 static size_t fake_points, fake_calls;
 
@@ -52,55 +54,6 @@ static int nisas(void)
              (k == BG_ISA_SCALAR || k == (int)cap ||
               (k != BG_ISA_NEON && cap != BG_ISA_NEON && k < (int)cap));
     return n;
-}
-
-/* The grid rows split a thread's points [b, e) into sub-grids: whatever the
- * split, the outputs are those of one grid call on the whole lattice. */
-static void check_grid_rows(void)
-{
-    const size_t side = BENCH_GRID_SIDE, n = 2 * side * side + 3 * side + 5;
-    bench_data d;
-    CHECK(bench_data_init(&d, n) == 0, "bench data");
-    bg_grid3 g = {.origin = {BENCH_GRID_ORIGIN, BENCH_GRID_ORIGIN, BENCH_GRID_ORIGIN},
-                  .step = {BENCH_GRID_STEP, BENCH_GRID_STEP, BENCH_GRID_STEP},
-                  .count = {side, side, 3}};
-    size_t total = side * side * 3;
-    float *want = malloc(5 * total * sizeof *want); /* noise, fbm v, gx, gy, gz */
-    CHECK(want != NULL, "memory");
-    if (!want || !d.v) {
-        free(want);
-        bench_data_free(&d);
-        return;
-    }
-    bg_fractal f = bg_fractal_default(BG_FUNC_FBM);
-    CHECK(bg_noise3_grid(&g, want) == BG_OK &&
-              bg_fractal3_grad_grid(&f, &g, want + total, want + 2 * total, want + 3 * total,
-                                    want + 4 * total) ==
-                  BG_OK,
-          "reference grid calls");
-    /* Cuts inside a row, at a row end, inside a slice and across a slice. */
-    const size_t cuts[] = {0, 7, side, 5 * side + 3, side * side + 1, n - 2, n};
-    bench_job j = {.d = &d, .fbm = f};
-    for (int k = 0; k < 2; k++) {
-        j.kernel = k ? K_FBM3_GRAD_GRID : K_NOISE3_GRID;
-        memset(d.v, 0xff, n * sizeof *d.v);
-        for (size_t c = 0; c + 1 < sizeof cuts / sizeof cuts[0]; c++)
-            bench_job_run(&j, cuts[c], cuts[c + 1]);
-        const float *w = want + (k ? total : 0);
-        size_t bad = 0;
-        for (size_t i = 0; i < n; i++) {
-            int differ = memcmp(&d.v[i], &w[i], sizeof(float)) != 0;
-            if (k)
-                differ |= memcmp(&d.ox[i], &want[2 * total + i], sizeof(float)) != 0 ||
-                          memcmp(&d.oy[i], &want[3 * total + i], sizeof(float)) != 0 ||
-                          memcmp(&d.oz[i], &want[4 * total + i], sizeof(float)) != 0;
-            bad += differ;
-        }
-        CHECK(bad == 0, "%s: %zu of %zu samples differ from one grid call",
-              bgt_bench_kernel_name((size_t)j.kernel), bad, n);
-    }
-    free(want);
-    bench_data_free(&d);
 }
 
 int main(void)
@@ -231,7 +184,6 @@ int main(void)
     if (s == BG_OK)
         bgt_bench_result_free(&res);
 
-    check_grid_rows();
 
     /* The kernel names are the ones the JSON shows. */
     CHECK(bgt_bench_kernel_count() == 30 && !strcmp(bgt_bench_kernel_name(24), "pnoise3") &&

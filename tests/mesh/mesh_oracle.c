@@ -72,10 +72,33 @@ static int parse_height(int argc, char **argv, int i, bg_height *h, bg_perturb_m
     return bg_height_validate(h) == BG_OK ? 0 : fail("invalid height parameters", NULL);
 }
 
-static int do_perturb(int argc, char **argv)
+/* One record of a row command: `nin` floats of IN to the 4 floats of OUT. */
+typedef void (*row_fn)(const bg_height *h, bg_perturb_method m, const float *r, float w[4]);
+
+/* h, then n' = bg_perturb(m, n, grad h), from (px py pz nx ny nz). */
+static void perturb_row(const bg_height *h, bg_perturb_method m, const float *r, float w[4])
+{
+    bg_vec3 p = {r[0], r[1], r[2]}, nn = {r[3], r[4], r[5]}, g;
+    w[0] = bg_height_eval(h, p, &g);
+    bg_vec3 q = bg_perturb(m, nn, g);
+    w[1] = q.x, w[2] = q.y, w[3] = q.z;
+}
+
+/* h and grad h from (px py pz). */
+static void gradient_row(const bg_height *h, bg_perturb_method m, const float *r, float w[4])
+{
+    (void)m;
+    bg_vec3 g;
+    w[0] = bg_height_eval(h, (bg_vec3){r[0], r[1], r[2]}, &g);
+    w[1] = g.x, w[2] = g.y, w[3] = g.z;
+}
+
+/* The row commands: `cmd IN OUT N [options]`, N records of `nin` floats in,
+ * N records of 4 floats out through `row`. */
+static int map_rows(int argc, char **argv, const char *usage, size_t nin, row_fn row)
 {
     if (argc < 5)
-        return fail("usage: perturb IN OUT N [options]", NULL);
+        return fail(usage, NULL);
     bg_height h;
     bg_perturb_method m;
     if (parse_height(argc, argv, 5, &h, &m))
@@ -86,38 +109,9 @@ static int do_perturb(int argc, char **argv)
         return fail("cannot open", !in ? argv[2] : argv[3]);
     for (size_t i = 0; i < n; i++) {
         float r[6], w[4];
-        if (fread(r, sizeof r, 1, in) != 1)
+        if (fread(r, sizeof(float) * nin, 1, in) != 1)
             return fail("short input", argv[2]);
-        bg_vec3 p = {r[0], r[1], r[2]}, nn = {r[3], r[4], r[5]}, g;
-        w[0] = bg_height_eval(&h, p, &g);
-        bg_vec3 q = bg_perturb(m, nn, g);
-        w[1] = q.x, w[2] = q.y, w[3] = q.z;
-        if (fwrite(w, sizeof w, 1, out) != 1)
-            return fail("write error", argv[3]);
-    }
-    fclose(in);
-    return fclose(out) != 0 ? fail("write error", argv[3]) : 0;
-}
-
-static int do_gradient(int argc, char **argv)
-{
-    if (argc < 5)
-        return fail("usage: gradient IN OUT N [options]", NULL);
-    bg_height h;
-    bg_perturb_method m;
-    if (parse_height(argc, argv, 5, &h, &m))
-        return 1;
-    size_t n = (size_t)strtoull(argv[4], NULL, 10);
-    FILE *in = fopen(argv[2], "rb"), *out = fopen(argv[3], "wb");
-    if (!in || !out)
-        return fail("cannot open", !in ? argv[2] : argv[3]);
-    for (size_t i = 0; i < n; i++) {
-        float r[3], w[4];
-        if (fread(r, sizeof r, 1, in) != 1)
-            return fail("short input", argv[2]);
-        bg_vec3 g;
-        w[0] = bg_height_eval(&h, (bg_vec3){r[0], r[1], r[2]}, &g);
-        w[1] = g.x, w[2] = g.y, w[3] = g.z;
+        row(&h, m, r, w);
         if (fwrite(w, sizeof w, 1, out) != 1)
             return fail("write error", argv[3]);
     }
@@ -147,9 +141,9 @@ static int do_image(int argc, char **argv)
 int main(int argc, char **argv)
 {
     if (argc >= 2 && strcmp(argv[1], "perturb") == 0)
-        return do_perturb(argc, argv);
+        return map_rows(argc, argv, "usage: perturb IN OUT N [options]", 6, perturb_row);
     if (argc >= 2 && strcmp(argv[1], "gradient") == 0)
-        return do_gradient(argc, argv);
+        return map_rows(argc, argv, "usage: gradient IN OUT N [options]", 3, gradient_row);
     if (argc >= 2 && strcmp(argv[1], "image") == 0)
         return do_image(argc, argv);
     return fail("usage: mesh_oracle perturb|gradient|image ...", NULL);

@@ -5,7 +5,6 @@ PYTHONPATH pointing at BUILD/python.
 usage: test_bumpgrad.py reference|bounds|cli|badinput|api [BUMPGRAD_EXE] [VERSION]
 """
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -13,7 +12,7 @@ import numpy as np
 
 import bumpgrad
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from harness import QUIET, check, finish  # noqa: E402
+from harness import QUIET, check, eval_points, finish  # noqa: E402
 QUIET[0] = True  # failures only, as before
 import perlin_ref as ref  # examples/perlin_ref.py
 
@@ -89,19 +88,7 @@ def test_bounds():
 # ---- bit identity with `bumpgrad eval` -------------------------------------------------------
 
 def run_eval(exe, pts, precision, function, gradient, tmp):
-    fmt = "%.9g" if precision == "float" else "%.17g"
-    inp = os.path.join(tmp, "in.csv")
-    out = os.path.join(tmp, "out.csv")
-    with open(inp, "w") as f:
-        f.write("x,y,z\n")
-        for q in pts:
-            f.write(",".join(fmt % c for c in q) + "\n")
-    subprocess.run([exe, "eval", "--precision", precision, "--function", function,
-                    "--gradient", gradient, "--threads", "1", "-i", inp, "-o", out], check=True)
-    t = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.float64)
-    if precision == "float":
-        t = t.astype(np.float32)
-    return t[:, 3], t[:, 4:7]
+    return eval_points(exe, pts, precision, ["--function", function, "--gradient", gradient], tmp)
 
 
 def test_cli(exe):

@@ -8,7 +8,6 @@ arguments name themselves.
 usage: test_domain_py.py BUMPGRAD_EXE
 """
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -16,15 +15,9 @@ import numpy as np
 
 import bumpgrad
 
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", msg)
-    return cond
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import FAILURES, QUIET, check, eval_points, finish  # noqa: E402
+QUIET[0] = True  # failures only
 
 
 def bits(a):
@@ -108,19 +101,7 @@ def test_seed(rng):
 
 
 def run_eval(exe, pts, precision, function, extra, tmp):
-    fmt = "%.9g" if precision == "float" else "%.17g"
-    inp = os.path.join(tmp, "in.csv")
-    out = os.path.join(tmp, "out.csv")
-    with open(inp, "w") as f:
-        f.write("x,y,z\n")
-        for q in pts:
-            f.write(",".join(fmt % c for c in q) + "\n")
-    subprocess.run([exe, "eval", "--precision", precision, "--function", function,
-                    "--threads", "1", "-i", inp, "-o", out] + extra, check=True)
-    t = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.float64)
-    if precision == "float":
-        t = t.astype(np.float32)
-    return t[:, 3], t[:, 4:7]
+    return eval_points(exe, pts, precision, ["--function", function] + extra, tmp)
 
 
 def test_cli(exe, rng):
@@ -150,7 +131,7 @@ def test_cli(exe, rng):
             check(same(v, cv) and same(g, cg), f"{precision} noise3(period=) differs from eval")
             compared += 1
     print(f"bumpgrad eval: {compared} runs, each bit-identical over {len(p64)} points"
-          if not failures else f"bumpgrad eval: {compared} runs compared")
+          if not FAILURES else f"bumpgrad eval: {compared} runs compared")
 
 
 def test_errors():
@@ -186,8 +167,7 @@ def main():
     test_seed(rng)
     test_cli(sys.argv[1], rng)
     test_errors()
-    print("domain: %s" % ("FAILED" if failures else "ok"))
-    return 1 if failures else 0
+    return finish("domain")
 
 
 if __name__ == "__main__":

@@ -17,16 +17,9 @@ import bumpgrad
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from test_tools import write_sphere  # noqa: E402
-
-failures = 0
-
-
-def check(cond, msg):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", msg)
-    return cond
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from harness import QUIET, check, finish  # noqa: E402
+QUIET[0] = True  # failures only
 
 
 def same(a, b):
@@ -42,7 +35,7 @@ def main():
         except bumpgrad.Error:
             pass
         print("render: this build has no tools; render raises")
-        return 1 if failures else 0
+        return finish("render")
     with tempfile.TemporaryDirectory(prefix="bumpgrad-test-render-") as tmp:
         mesh = os.path.join(tmp, "sphere.obj")
         write_sphere(mesh)
@@ -91,8 +84,7 @@ def main():
             check(False, f"render({kw}) did not raise")
         except exc as e:
             check(word in str(e), f"render({kw}): message does not name {word}: {e}")
-    print("render: %s" % ("FAILED" if failures else "ok"))
-    return 1 if failures else 0
+    return finish("render")
 
 
 if __name__ == "__main__":

@@ -5,8 +5,8 @@
 Usage: test_tools.py BUMPGRAD_EXE {heightmap|derivative|volume|heightgrid|badinput}
 Environment: OIIOTOOL, IINFO, IDIFF, VDB_PRINT (paths of those programs).
 
-Expected values are computed here with numpy from the formulas (the seed's
-gray weights and s x t normals, the framework's derivative rule, the band
+Expected values are computed here with numpy from the formulas ("Bump Map
+Generation"'s gray weights and s x t normals, the framework's derivative rule, the band
 test); files are read back with OpenImageIO's and OpenVDB's own tools, and a
 PNG input is encoded by hand with zlib, so no check depends on bumpgrad's
 reader to judge bumpgrad's writer.

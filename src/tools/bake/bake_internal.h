@@ -21,11 +21,8 @@ static inline bg_status bake_write_image(const char *path, const char *format, c
                                      err, sizeof err);
     if (st == BG_OK)
         return BG_OK;
-    return bgt_fail(e,
-                    st == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
-                    : st == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
-                                                  : BG_ERR_IO,
-                    "%s%s", st == BG_ERR_INVALID_ARGUMENT && format ? "--format: " : "", err);
+    return bgt_fail(e, bgt_write_status(st), "%s%s",
+                    st == BG_ERR_INVALID_ARGUMENT && format ? "--format: " : "", err);
 }
 
 #endif

@@ -178,12 +178,9 @@ static bg_status read_input(const bgt_heightmap_opts *o, bg_image *in, bgt_err *
     bg_status st = bg_image_read_as(in_path, o->input_format, in, err, sizeof err);
     if (st == BG_OK)
         return BG_OK;
-    return bgt_fail(e,
-                    st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
-                    : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
-                                               : BG_ERR_INVALID_ARGUMENT,
-                    "%s%s%s", st == BG_ERR_INVALID_ARGUMENT && o->input_format
-                                      ? "--input-format: " : "", err,
+    return bgt_fail(e, bgt_read_status(st), "%s%s%s",
+                    st == BG_ERR_INVALID_ARGUMENT && o->input_format ? "--input-format: " : "",
+                    err,
                     st == BG_ERR_FORMAT && !o->input_format && strcmp(in_path, "-") == 0
                         ? "; name its format with --input-format FMT (png, tga, exr, ...)"
                         : "");

@@ -60,6 +60,16 @@ bg_status bgt_check_alloc(double bytes, const char *what, bgt_err *e)
                     what, bytes / 1048576.0, cap >> 20);
 }
 
+bg_status bgt_read_status(bg_status s)
+{
+    return s == BG_ERR_OUT_OF_MEMORY || s == BG_ERR_FORMAT ? s : BG_ERR_INVALID_ARGUMENT;
+}
+
+bg_status bgt_write_status(bg_status s)
+{
+    return s == BG_ERR_INVALID_ARGUMENT || s == BG_ERR_OUT_OF_MEMORY ? s : BG_ERR_IO;
+}
+
 void bgt_err_clear(bgt_err *e)
 {
     if (e) {

@@ -32,6 +32,15 @@ bg_status bgt_fail(bgt_err *e, bg_status s, const char *fmt, ...) BGT_PRINTF(3, 
 /* Prefix the message already in *e with "prefix: " (context on the way up). */
 void bgt_err_prefix(bgt_err *e, const char *prefix);
 void bgt_err_clear(bgt_err *e);
+/* The one rule for the status of a failed file read or write (a bg_status of
+ * the I/O shim), so that every tool exits alike. A read of an input the user
+ * named: out of memory is a run failure, a malformed file BG_ERR_FORMAT, and
+ * anything else (missing, unreadable) bad input, BG_ERR_INVALID_ARGUMENT. */
+bg_status bgt_read_status(bg_status s);
+/* A write of an output: a file name without an image format
+ * (BG_ERR_INVALID_ARGUMENT) is bad input, out of memory stays, and the
+ * writing itself failing is BG_ERR_IO. */
+bg_status bgt_write_status(bg_status s);
 
 /* ---- the one cap on input-driven allocations ----
  * Every allocation whose size an input decides (an image's declared size, a

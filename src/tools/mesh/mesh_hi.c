@@ -31,11 +31,7 @@ static bg_status load(const char *opt, const char *path, unsigned join, bg_mesh 
     char err[512];
     bg_status st = bg_mesh_load_ex(path, join, m, err, sizeof err);
     if (st != BG_OK)
-        return bgt_fail(e,
-                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
-                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
-                                                   : BG_ERR_INVALID_ARGUMENT,
-                        "%s: %s", opt, err);
+        return bgt_fail(e, bgt_read_status(st), "%s: %s", opt, err);
     return BG_OK;
 }
 

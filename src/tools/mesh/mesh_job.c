@@ -379,11 +379,7 @@ static bg_status map_sink(void *ctx, int udim, const bg_image *img, bgt_err *e)
     if (ws != BG_OK)
         /* A file name without an image format is bad input, as in
          * heightmap; only the writing itself failing is an I/O failure. */
-        return bgt_fail(e,
-                        ws == BG_ERR_INVALID_ARGUMENT ? BG_ERR_INVALID_ARGUMENT
-                        : ws == BG_ERR_OUT_OF_MEMORY  ? BG_ERR_OUT_OF_MEMORY
-                                                      : BG_ERR_IO,
-                        "%s %s: %s", mo->what ? mo->what : "normal map", final, err);
+        return bgt_fail(e, bgt_write_status(ws), "%s %s: %s", mo->what ? mo->what : "normal map", final, err);
     if (mo->gltf && mo->ng < MESH_UDIM_MAX_TILES) {
         mo->gtile[mo->ng] = udim;
         return mesh_gltf_map_image(&mo->gmap[mo->ng++], img, to_stdout ? NULL : target, final,
@@ -472,11 +468,7 @@ static bg_status load_mesh(const bgt_mesh_opts *o, bg_mesh *m, bgt_err *e)
     if (st != BG_OK)
         /* Missing, unreadable or malformed input is the user's to fix (2);
          * only running out of memory is a runtime failure. */
-        return bgt_fail(e,
-                        st == BG_ERR_OUT_OF_MEMORY ? BG_ERR_OUT_OF_MEMORY
-                        : st == BG_ERR_FORMAT      ? BG_ERR_FORMAT
-                                                   : BG_ERR_INVALID_ARGUMENT,
-                        "%s", err);
+        return bgt_fail(e, bgt_read_status(st), "%s", err);
     if (o->bake_path && !m->u) {
         bg_mesh_free(m);
         return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,

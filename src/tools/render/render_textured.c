@@ -11,7 +11,8 @@
  *    materials, per triangle (bg_mesh.material/materials: the first diffuse,
  *    height and normal texture of each of assimp's materials, for every
  *    format assimp reads). Without a height map the height is
- *    the gray level of the albedo, the seed's diffuse-to-height method
+ *    the gray level of the albedo, the diffuse-to-height method of "Bump Map
+ *    Generation"
  *    (bumpgrad heightmap: 0.33 R + 0.66 G + 0.11 B); without a normal map the
  *    normal map is baked from that height (central differences, as
  *    bumpgrad heightmap does).
@@ -185,7 +186,8 @@ static bg_status read_texture(const char *what, const char *path, const udim_lay
     return BG_OK;
 }
 
-/* The seed's gray level (bumpgrad heightmap --gray seed): 0.33 R + 0.66 G + 0.11 B
+/* The gray level of "Bump Map Generation" (bumpgrad heightmap --gray diffuse):
+ * 0.33 R + 0.66 G + 0.11 B
  * of the stored (not linearized) values; one- and two-channel images: channel 0. */
 static float gray(const float *px, int ch)
 {
@@ -303,8 +305,8 @@ static bg_status image_to_textures(bg_image *img, int nch,
 }
 
 /* The texture set of one material: the albedo (sRGB to linear), the height
- * (the height map's gray level, else the albedo's: the seed's diffuse-to-height
- * method) and the tangent-space normal map (the file, else baked from the
+ * (the height map's gray level, else the albedo's: the diffuse-to-height
+ * method of "Bump Map Generation") and the tangent-space normal map (the file, else baked from the
  * height). hp, np, ap: paths or NULL; what[]: their origins in messages (the
  * option, or the material: texture_origins). ls, lt: the mesh's mean |dP/ds|,
  * |dP/dt|. */
@@ -342,8 +344,8 @@ static bg_status load_material(const render_opts *o, const udim_layout *ul, cons
             return s;
         desc_add(desc, desclen, dl, short_names, " normalmap=", np, "");
     } else if (want_nmap && M->height.texels) {
-        /* Bake the tangent-space normal map of the height texture (the seed's
-         * diffuse-to-normal step, bumpgrad heightmap): slopes per unit length
+        /* Bake the tangent-space normal map of the height texture ("Bump Map
+         * Generation"'s diffuse-to-normal step, bumpgrad heightmap): slopes per unit length
          * along unit tangents, using the mesh's average |dP/ds|, |dP/dt| (a
          * normal map stores one scale for the whole surface; that is the
          * approximation normal mapping makes, visible where the UV chart

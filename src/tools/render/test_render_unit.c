@@ -8,11 +8,18 @@
  *  - The marching-tetrahedra isosurface and its BVH: the BVH's closest hit
  *    equals a brute-force loop over all triangles; rays aimed at the blob's
  *    centre (which is inside) all hit, on the side their vertex normals face;
- *    vertex normals are unit and face normals agree with them. */
+ *    vertex normals are unit and face normals agree with them.
+ *  - One function per equation: render_listing1 gives the same bits as the
+ *    library's bg_listing1_normal for the same quad, on random quads and on
+ *    degenerate ones (det = 0, inward, zero normals).
+ * The renderer's own unit test (src/tools/render/meson.build): it sees the
+ * pieces behind render_internal.h, which nothing outside the tool includes. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include "render/render_internal.h"
+#include <string.h>
+#include "bumpgrad/framework.h"
+#include "render_internal.h"
 #include "common/check.h"
 
 static unsigned long long rng = 0x9E3779B97F4A7C15ull;
@@ -90,6 +97,57 @@ static void test_listing1_degenerate(void)
     float n[3] = {0, 0, 1}, out[3];
     render_listing1((const float(*)[3])pos, h, 0, 1, n, out);
     CHECK(out[0] == 0 && out[1] == 0 && out[2] == 1, "degenerate quad keeps n");
+}
+
+/* The one-rule check's own stream (xorshift64, floats in [-1, 1)), so the
+ * other checks see the same points with or without it. */
+static unsigned long long rule_rng = 0x9e3779b97f4a7c15ull;
+static float rule_rand(void)
+{
+    rule_rng ^= rule_rng << 13, rule_rng ^= rule_rng >> 7, rule_rng ^= rule_rng << 17;
+    return (float)((double)(rule_rng >> 11) / 9007199254740992.0 * 2 - 1);
+}
+
+static int same3(const float a[3], bg_vec3 b)
+{
+    return memcmp(&a[0], &b.x, 4) == 0 && memcmp(&a[1], &b.y, 4) == 0 &&
+           memcmp(&a[2], &b.z, 4) == 0;
+}
+
+/* render_listing1 against bg_listing1_normal, bit for bit: the renderer keeps
+ * no copy of the equation (tests/tools/test_one_rule.c checks heightmap's). */
+static void test_listing1_one_rule(void)
+{
+    int bad = 0, det0 = 0;
+    for (int k = 0; k < 200000; k++) {
+        float pos[4][3], h[4], n[3] = {rule_rand(), rule_rand(), rule_rand()}, out[3];
+        for (int q = 0; q < 4; q++)
+            for (int a = 0; a < 3; a++)
+                pos[q][a] = rule_rand();
+        for (int q = 0; q < 4; q++)
+            h[q] = 0.1f * rule_rand();
+        if (k % 7 == 0) /* collinear quad: det = 0 */
+            for (int a = 0; a < 3; a++)
+                pos[2][a] = pos[0][a] + 2 * (pos[1][a] - pos[0][a]),
+                pos[3][a] = pos[1][a] + 2 * (pos[1][a] - pos[0][a]);
+        int lane = k & 3, fine = (k >> 2) & 1;
+        render_listing1((const float(*)[3])pos, h, lane, fine, n, out);
+        int lx = lane & 1, ly = lane >> 1, r = fine ? 2 * ly : 0, c = fine ? lx : 0;
+        bg_vec3 ss = {pos[r + 1][0] - pos[r][0], pos[r + 1][1] - pos[r][1], pos[r + 1][2] - pos[r][2]};
+        bg_vec3 st = {pos[c + 2][0] - pos[c][0], pos[c + 2][1] - pos[c][1], pos[c + 2][2] - pos[c][2]};
+        bg_vec3 nn = {n[0], n[1], n[2]};
+        bg_vec3 ref = bg_listing1_normal(nn, ss, st, h[r + 1] - h[r], h[c + 2] - h[c]);
+        det0 += same3(n, ref);
+        int same = same3(out, ref);
+        bad += !same;
+        CHECK(same || bad > 5, "listing1 case %d: render (%g %g %g) vs library (%g %g %g)", k,
+              (double)out[0], (double)out[1], (double)out[2], (double)ref.x, (double)ref.y,
+              (double)ref.z);
+    }
+    CHECK(bad == 0, "listing1: %d of 200000 quads differ from bg_listing1_normal", bad);
+    CHECK(det0 > 0, "some quads kept the normal (the det = 0 rule was reached)");
+    printf("listing1 vs bg_listing1_normal: 200000 quads, %d mismatches, %d kept the normal "
+           "(det = 0 rule)\n", bad, det0);
 }
 
 static int brute(const render_mesh *m, const float o[3], const float d[3], render_hit *best)
@@ -231,6 +289,7 @@ int main(void)
     test_embree(RENDER_TORUS);
     test_listing1_plane();
     test_listing1_degenerate();
+    test_listing1_one_rule();
     test_mesh(RENDER_BLOB);
     test_mesh(RENDER_TORUS);
     test_names();
