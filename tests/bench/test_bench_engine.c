@@ -234,12 +234,23 @@ int main(void)
     check_grid_rows();
 
     /* The kernel names are the ones the JSON shows. */
-    CHECK(bgt_bench_kernel_count() == 30 && !strcmp(bgt_bench_kernel_name(24), "pnoise3") &&
+    CHECK(bgt_bench_kernel_count() == 32 && !strcmp(bgt_bench_kernel_name(24), "pnoise3") &&
               !strcmp(bgt_bench_kernel_name(28), "fbm3_seed_grad") && !strcmp(bgt_bench_kernel_name(0), "noise3") &&
               !strcmp(bgt_bench_kernel_name(13), "noise3_batch1_point") &&
               !strcmp(bgt_bench_kernel_name(19), "noise3_n256") &&
               !strcmp(bgt_bench_kernel_name(22), "fbm3_grad_grid") &&
-              !strcmp(bgt_bench_kernel_name(23), "stream3") && !strcmp(bgt_bench_kernel_name(29), "pfbm3_grad_xy") && !bgt_bench_kernel_name(30),
+              !strcmp(bgt_bench_kernel_name(23), "stream3") && !strcmp(bgt_bench_kernel_name(29), "pfbm3_grad_xy") &&
+              !strcmp(bgt_bench_kernel_name(30), "mikktspace") &&
+              !strcmp(bgt_bench_kernel_name(31), "mesh_bake") && !bgt_bench_kernel_name(32),
           "kernel names");
+    /* The mesh rows (whole calls, seconds each) only by name or "mesh". */
+    bench_sel sel;
+    CHECK(bench_select("ours", NULL, 0, &sel, &e) == BG_OK && sel.ours[K_NOISE3] &&
+              !sel.ours[K_MIKK] && !sel.ours[K_MESH_BAKE] &&
+              bench_select("mesh", NULL, 0, &sel, &e) == BG_OK && sel.ours[K_MIKK] &&
+              sel.ours[K_MESH_BAKE] && !sel.ours[K_NOISE3] &&
+              bench_select("mikktspace", NULL, 0, &sel, &e) == BG_OK && sel.ours[K_MIKK] &&
+              !sel.ours[K_MESH_BAKE],
+          "mesh rows selected only by name");
     return check_summary("test_bench_engine");
 }
