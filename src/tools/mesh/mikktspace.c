@@ -70,7 +70,7 @@ typedef struct mikk_worker {
     int32_t *stack;   /* fan growth: at most 2 per member + 2 */
     int32_t *members; /* the fan being grown */
     int32_t *scratch; /* MIKK_SCRATCH: the subfans of fan_output */
-    uint32_t *edges;  /* neighbour matching: (other vertex, triangle, edge) */
+    uint64_t *edges;  /* neighbour matching: (other vertex, triangle, edge) */
     struct d3 *term;  /* the fan's members' terms (fan_term) */
     uint8_t *corner;  /* the fan's members' corners at its vertex */
     size_t fans, unreached, degenerate, zero_uv_area;
@@ -135,39 +135,85 @@ static void float_directions(mikk *k, size_t t)
  * open-addressing table in vertex order: the first vertex of a class to be
  * inserted, i.e. its smallest index, is the class's representative. */
 
-typedef struct vkey {
-    uint32_t k[8];
-} vkey;
-
-static uint32_t vkey_hash(const vkey *q)
+/* The 8 attributes of vertex i as keys whose equality is float ==. */
+static void vertex_keys(const bgt_mikk_mesh *m, size_t i, uint32_t key[8], int *nan)
 {
-    uint64_t h = UINT64_C(0x9e3779b97f4a7c15);
-    for (int j = 0; j < 8; j++)
-        h = (h ^ q->k[j]) * UINT64_C(0xff51afd7ed558ccd);
-    return (uint32_t)(h >> 32) ^ (uint32_t)h;
+    const float f[8] = {m->px[i], m->py[i], m->pz[i], m->nx[i],
+                        m->ny[i], m->nz[i], m->u[i],  m->v[i]};
+    *nan = 0;
+    for (int a = 0; a < 8; a++) {
+        key[a] = mesh_float_key(f[a]);
+        *nan |= isnan(f[a]);
+    }
 }
 
 typedef struct weld_job {
     const bgt_mikk_mesh *m;
-    vkey *keys;
-    uint32_t *hash; /* UINT32_MAX marks a NaN vertex (0xffffffff as a hash is remapped) */
+    uint32_t *hash; /* UINT32_MAX marks a NaN vertex (a hash of UINT32_MAX is remapped) */
 } weld_job;
 
-static void weld_keys(void *ctx, size_t b, size_t e, int worker)
+static void weld_hashes(void *ctx, size_t b, size_t e, int worker)
 {
     (void)worker;
     const weld_job *j = ctx;
-    const bgt_mikk_mesh *m = j->m;
     for (size_t i = b; i < e; i++) {
-        const float f[8] = {m->px[i], m->py[i], m->pz[i], m->nx[i],
-                            m->ny[i], m->nz[i], m->u[i],  m->v[i]};
-        int nan = 0;
-        for (int a = 0; a < 8; a++) {
-            j->keys[i].k[a] = mesh_float_key(f[a]);
-            nan |= isnan(f[a]);
+        uint32_t key[8];
+        int nan;
+        vertex_keys(j->m, i, key, &nan);
+        uint64_t h = UINT64_C(0x9e3779b97f4a7c15);
+        for (int a = 0; a < 8; a++)
+            h = (h ^ key[a]) * UINT64_C(0xff51afd7ed558ccd);
+        uint32_t h32 = (uint32_t)(h >> 32) ^ (uint32_t)h;
+        j->hash[i] = nan ? UINT32_MAX : (h32 == UINT32_MAX ? 0 : h32);
+    }
+}
+
+/* The table is cut into one region per part; part p inserts the vertices
+ * whose hash falls to it, in vertex order. A class lies in one part, so the
+ * parts run in parallel and the result is that of one table. */
+typedef struct weld_part_job {
+    mikk *k;
+    const uint8_t *used;
+    const uint32_t *hash;
+    uint32_t *table; /* vertex + 1, 0 = empty */
+    size_t parts, region;
+    size_t *merged; /* per part: vertices welded to an earlier one */
+} weld_part_job;
+
+static void weld_part(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    const weld_part_job *j = ctx;
+    mikk *k = j->k;
+    for (size_t p = b; p < e; p++) {
+        uint32_t *table = j->table + p * j->region;
+        size_t mask = j->region - 1, merged = 0;
+        for (size_t i = 0; i < k->nv; i++) {
+            uint32_t h = j->hash[i];
+            if (!j->used[i] || h == UINT32_MAX || h % j->parts != p)
+                continue;
+            uint32_t ki[8], ko[8];
+            int nan, have = 0;
+            for (size_t s = (h / j->parts) & mask;; s = (s + 1) & mask) {
+                uint32_t o = table[s];
+                if (o == 0) {
+                    table[s] = (uint32_t)i + 1;
+                    break;
+                }
+                o--;
+                if (j->hash[o] != h)
+                    continue;
+                if (!have)
+                    vertex_keys(k->m, i, ki, &nan), have = 1;
+                vertex_keys(k->m, o, ko, &nan);
+                if (memcmp(ko, ki, sizeof ki) == 0) {
+                    k->weld[i] = o; /* o < i: the class's first vertex */
+                    merged++;
+                    break;
+                }
+            }
         }
-        uint32_t h = vkey_hash(&j->keys[i]);
-        j->hash[i] = nan ? UINT32_MAX : (h == UINT32_MAX ? 0 : h);
+        j->merged[p] = merged;
     }
 }
 
@@ -177,47 +223,29 @@ static void weld_keys(void *ctx, size_t b, size_t e, int worker)
 static size_t weld_vertices(mikk *k, const uint8_t *used)
 {
     size_t nv = k->nv, nu = 0;
-    for (size_t i = 0; i < nv; i++)
-        nu += used[i];
-    size_t cap = 16;
-    while (cap < 2 * nu)
-        cap *= 2;
-    vkey *keys = malloc(nv * sizeof *keys);
-    uint32_t *hash = malloc(nv * sizeof *hash);
-    uint32_t *table = malloc(cap * sizeof *table); /* vertex + 1, 0 = empty */
-    size_t classes = (size_t)-1;
-    if (!keys || !hash || !table)
-        goto done;
-    memset(table, 0, cap * sizeof *table);
-    weld_job j = {k->m, keys, hash};
-    bgt_parallel_for(nv, 16384, k->threads, weld_keys, &j);
-    classes = 0;
     for (size_t i = 0; i < nv; i++) {
+        nu += used[i];
         k->weld[i] = (uint32_t)i;
-        if (!used[i])
-            continue;
-        classes++;
-        if (hash[i] == UINT32_MAX)
-            continue;
-        size_t s = hash[i] & (cap - 1);
-        for (;; s = (s + 1) & (cap - 1)) {
-            uint32_t o = table[s];
-            if (o == 0) {
-                table[s] = (uint32_t)i + 1;
-                break;
-            }
-            o--;
-            if (hash[o] == hash[i] && memcmp(keys[o].k, keys[i].k, sizeof keys[i].k) == 0) {
-                k->weld[i] = o; /* o < i: the class's first vertex */
-                classes--;
-                break;
-            }
-        }
     }
-done:
-    free(keys);
+    size_t parts = (size_t)k->threads, region = 16;
+    while (region * parts < 2 * nu)
+        region *= 2;
+    uint32_t *hash = malloc(nv * sizeof *hash);
+    uint32_t *table = calloc(region * parts, sizeof *table);
+    size_t *merged = calloc(parts, sizeof *merged);
+    size_t classes = (size_t)-1;
+    if (hash && table && merged) {
+        weld_job j = {k->m, hash};
+        bgt_parallel_for(nv, 16384, k->threads, weld_hashes, &j);
+        weld_part_job pj = {k, used, hash, table, parts, region, merged};
+        bgt_parallel_for(parts, 1, k->threads, weld_part, &pj);
+        classes = nu;
+        for (size_t p = 0; p < parts; p++)
+            classes -= merged[p];
+    }
     free(hash);
     free(table);
+    free(merged);
     return classes;
 }
 
@@ -283,23 +311,30 @@ static void classify_chunk(void *ctx, size_t b, size_t e, int worker)
  * (in parallel): they come from that vertex's corners, already in triangle
  * order, and are sorted stably by the higher vertex. */
 
-static void sort_by_other(uint32_t *e, size_t n)
+/* Edge records of one lower vertex: (higher vertex) << 32 | triangle << 2 |
+ * edge number, so that their numeric order is the (higher, triangle, edge)
+ * order (fewer than 2^30 triangles: checked on entry). */
+static void sort_edges(uint64_t *e, size_t n)
 {
     for (size_t i = 1; i < n; i++) {
-        uint32_t x[3] = {e[3 * i], e[3 * i + 1], e[3 * i + 2]};
+        uint64_t x = e[i];
         size_t j = i;
-        for (; j > 0 && e[3 * (j - 1)] > x[0]; j--)
-            memcpy(e + 3 * j, e + 3 * (j - 1), 3 * sizeof *e);
-        memcpy(e + 3 * j, x, sizeof x);
+        for (; j > 0 && e[j - 1] > x; j--)
+            e[j] = e[j - 1];
+        e[j] = x;
     }
 }
 
-static int cmp_edge3(const void *a, const void *b) { return mesh_keys_cmp(a, b, 3); }
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
 
 static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 {
     mikk *k = ctx;
-    uint32_t *ed = k->w[worker].edges;
+    uint64_t *ed = k->w[worker].edges;
     for (size_t v = b; v < e; v++) {
         size_t n = 0;
         for (uint32_t i = k->v_start[v]; i < k->v_start[v + 1]; i++) {
@@ -307,33 +342,32 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
             if (k->flags[t] & TRI_DEGENERATE)
                 continue;
             /* edge kc leaves v, edge kp arrives at it: in edge-number order */
-            uint32_t ks[2] = {kc < kp ? kc : kp, kc < kp ? kp : kc};
-            for (int q = 0; q < 2; q++) {
-                uint32_t other = ks[q] == kc ? wv(k, 3 * (size_t)t + (kc + 1) % 3)
-                                             : wv(k, 3 * (size_t)t + kp);
-                if (other > v) {
-                    ed[3 * n] = other, ed[3 * n + 1] = t, ed[3 * n + 2] = ks[q];
-                    n++;
-                }
-            }
+            uint32_t next = wv(k, 3 * (size_t)t + (kc + 1) % 3), prev = wv(k, 3 * (size_t)t + kp);
+            uint64_t tk = (uint64_t)t << 2;
+            if (kp < kc && prev > v)
+                ed[n++] = (uint64_t)prev << 32 | tk | kp;
+            if (next > v)
+                ed[n++] = (uint64_t)next << 32 | tk | kc;
+            if (kp > kc && prev > v)
+                ed[n++] = (uint64_t)prev << 32 | tk | kp;
         }
         if (n <= 32)
-            sort_by_other(ed, n);
+            sort_edges(ed, n);
         else
-            qsort(ed, n, 3 * sizeof *ed, cmp_edge3); /* (other, triangle, edge): distinct */
+            qsort(ed, n, sizeof *ed, cmp_u64); /* the records are distinct */
+        /* Two edges between v and the same vertex match when they run
+         * opposite ways: one leaves v (its first corner is at v), the other
+         * arrives. */
         for (size_t i = 0; i < n; i++) {
-            const uint32_t *ei = ed + 3 * i;
-            size_t ca = 3 * (size_t)ei[1] + ei[2];
+            size_t ca = (size_t)(ed[i] >> 2 & 0x3fffffff) * 3 + (ed[i] & 3);
             if (k->nb[ca] >= 0)
                 continue;
-            uint32_t from = wv(k, ca), to = wv(k, 3 * (size_t)ei[1] + (ei[2] + 1) % 3);
-            for (size_t j = i + 1; j < n && ed[3 * j] == ei[0]; j++) {
-                const uint32_t *ej = ed + 3 * j;
-                size_t cb = 3 * (size_t)ej[1] + ej[2];
-                uint32_t bf = wv(k, cb), bt = wv(k, 3 * (size_t)ej[1] + (ej[2] + 1) % 3);
-                if (bf == to && bt == from && k->nb[cb] < 0) {
-                    k->nb[ca] = (int32_t)ej[1];
-                    k->nb[cb] = (int32_t)ei[1];
+            int leaves = wv(k, ca) == v;
+            for (size_t j = i + 1; j < n && ed[j] >> 32 == ed[i] >> 32; j++) {
+                size_t cb = (size_t)(ed[j] >> 2 & 0x3fffffff) * 3 + (ed[j] & 3);
+                if ((wv(k, cb) == v) != leaves && k->nb[cb] < 0) {
+                    k->nb[ca] = (int32_t)(cb / 3);
+                    k->nb[cb] = (int32_t)(ca / 3);
                     break;
                 }
             }
@@ -625,7 +659,7 @@ static int alloc_workers(mikk *k, size_t maxv)
         w->stack = malloc((2 * maxv + 4) * sizeof *w->stack);
         w->members = malloc((maxv + 1) * sizeof *w->members);
         w->scratch = malloc(MIKK_SCRATCH * sizeof *w->scratch);
-        w->edges = malloc((6 * maxv + 3) * sizeof *w->edges);
+        w->edges = malloc((2 * maxv + 2) * sizeof *w->edges);
         w->term = malloc((maxv + 1) * sizeof *w->term);
         w->corner = malloc(maxv + 1);
         if (!w->stack || !w->members || !w->scratch || !w->edges || !w->term || !w->corner)
