@@ -646,20 +646,58 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
     }
 }
 
-/* The corners of each welded vertex, in corner order (a counting sort). */
-static void corners_by_vertex(mikk *k)
+/* The corners of each welded vertex, in corner order: a counting sort cut
+ * into parts (consecutive corner ranges) that count and place their corners
+ * in parallel; part p's corners of a vertex go after those of the parts
+ * before it, so the order is that of one pass. */
+#define MIKK_CSR_PARTS 4
+typedef struct csr_job {
+    mikk *k;
+    uint32_t *cnt; /* per part, per vertex: count, then next slot */
+    size_t per;    /* corners per part */
+    int place;     /* 0: count, 1: place */
+} csr_job;
+
+static void csr_part(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    const csr_job *j = ctx;
+    mikk *k = j->k;
+    size_t nc = 3 * k->T;
+    for (size_t p = b; p < e; p++) {
+        uint32_t *cnt = j->cnt + p * k->nv;
+        size_t c1 = (p + 1) * j->per < nc ? (p + 1) * j->per : nc;
+        for (size_t c = p * j->per; c < c1; c++) {
+            if (j->place)
+                k->v_corner[cnt[k->wc[c]]++] = (uint32_t)c;
+            else
+                cnt[k->wc[c]]++;
+        }
+    }
+}
+
+static int corners_by_vertex(mikk *k)
 {
     size_t nv = k->nv, nc = 3 * k->T;
-    memset(k->v_start, 0, (nv + 1) * sizeof *k->v_start);
-    for (size_t c = 0; c < nc; c++)
-        k->v_start[k->wc[c] + 1]++;
-    for (size_t v = 0; v < nv; v++)
-        k->v_start[v + 1] += k->v_start[v];
-    for (size_t c = 0; c < nc; c++)
-        k->v_corner[k->v_start[k->wc[c]]++] = (uint32_t)c;
-    for (size_t v = nv; v > 0; v--)
-        k->v_start[v] = k->v_start[v - 1];
-    k->v_start[0] = 0;
+    size_t parts = k->threads < MIKK_CSR_PARTS ? (size_t)k->threads : MIKK_CSR_PARTS;
+    csr_job j = {k, calloc(parts * nv, sizeof *j.cnt), (nc + parts - 1) / parts, 0};
+    if (!j.cnt)
+        return -1;
+    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
+    uint32_t at = 0;
+    for (size_t v = 0; v < nv; v++) {
+        k->v_start[v] = at;
+        for (size_t p = 0; p < parts; p++) {
+            uint32_t n = j.cnt[p * nv + v];
+            j.cnt[p * nv + v] = at;
+            at += n;
+        }
+    }
+    k->v_start[nv] = at;
+    j.place = 1;
+    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
+    free(j.cnt);
+    return 0;
 }
 
 static void free_workers(mikk *k)
@@ -748,7 +786,8 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     if (st.welded_vertices == (size_t)-1 || !k.w)
         goto done;
     bgt_parallel_for(T, 8192, k.threads, classify_chunk, &k);
-    corners_by_vertex(&k);
+    if (corners_by_vertex(&k) != 0)
+        goto done;
     size_t maxv = 0;
     for (size_t v = 0; v < nv; v++)
         if (k.v_start[v + 1] - k.v_start[v] > maxv)
