@@ -93,7 +93,8 @@ enum { TRI_DEGENERATE = 1, TRI_ANY = 2, TRI_PRESERVING = 4 };
 typedef struct mikk_worker {
     int32_t *stack;   /* fan growth: at most 2 per member + 2 */
     int32_t *members; /* the fan being grown */
-    int32_t *scratch; /* MIKK_SCRATCH: the subfans of fan_output */
+    int32_t *scratch; /* MIKK_SCRATCH: the subfans of fan_output, on first need */
+    int oom;          /* the scratch could not be had */
     uint64_t *edges;  /* neighbour matching: (other vertex, triangle, edge) */
     struct d3 *term;  /* the fan's members' terms (fan_term) */
     uint8_t *corner;  /* the fan's members' corners at its vertex */
@@ -522,8 +523,8 @@ static void whole_fan(const mikk *k, const int32_t *mem, const d3 *term, const u
 /* scratch: the member lists of the distinct subfans, each preceded by its
  * length (at most MIKK_SPLIT_MAX lists of MIKK_SPLIT_MAX) */
 #define MIKK_SCRATCH ((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1))
-static void fan_output(const mikk *k, const int32_t *mem, size_t n, int pres,
-                       float *out, int32_t *scratch, d3 *term, const uint8_t *corner)
+static void fan_output(const mikk *k, mikk_worker *wk, const int32_t *mem, size_t n, int pres,
+                       float *out, d3 *term, const uint8_t *corner)
 {
     const bgt_mikk_mesh *m = k->m;
     float w = pres ? 1.0f : -1.0f;
@@ -564,6 +565,11 @@ static void fan_output(const mikk *k, const int32_t *mem, size_t n, int pres,
         whole_fan(k, mem, term, corner, n, w, out);
         return;
     }
+    if (!wk->scratch && !(wk->scratch = malloc(MIKK_SCRATCH * sizeof *wk->scratch))) {
+        wk->oom = 1;
+        return;
+    }
+    int32_t *scratch = wk->scratch;
     size_t nsub = 0, used = 0;
     size_t sub_off[MIKK_SPLIT_MAX];
     d3 sub_tan[MIKK_SPLIT_MAX];
@@ -601,7 +607,7 @@ static void seed_fan(mikk *k, mikk_worker *w, size_t t, int c)
     uint32_t vert = wv(k, 3 * t + (size_t)c);
     int pres = (k->flags[t] & TRI_PRESERVING) != 0;
     size_t n = grow_fan(k, w, vert, pres, t, c);
-    fan_output(k, w->members, n, pres, k->out, w->scratch, w->term, w->corner);
+    fan_output(k, w, w->members, n, pres, k->out, w->term, w->corner);
     w->fans++;
 }
 
@@ -720,11 +726,10 @@ static int alloc_workers(mikk *k, size_t maxv)
         mikk_worker *w = &k->w[i];
         w->stack = malloc((2 * maxv + 4) * sizeof *w->stack);
         w->members = malloc((maxv + 1) * sizeof *w->members);
-        w->scratch = malloc(MIKK_SCRATCH * sizeof *w->scratch);
         w->edges = malloc((2 * maxv + 2) * sizeof *w->edges);
         w->term = malloc((maxv + 1) * sizeof *w->term);
         w->corner = malloc(maxv + 1);
-        if (!w->stack || !w->members || !w->scratch || !w->edges || !w->term || !w->corner)
+        if (!w->stack || !w->members || !w->edges || !w->term || !w->corner)
             return -1;
     }
     return 0;
@@ -761,7 +766,7 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     k.m = m;
     k.T = T;
     k.out = out;
-    k.threads = threads > 0 ? threads : bgt_threads_default();
+    k.threads = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
     size_t nv = m->vertex_count;
     k.nv = nv;
     uint8_t *used = calloc(nv, 1);
@@ -818,6 +823,9 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
         }
     }
     bgt_parallel_for(nv, 4096, k.threads, fans_chunk, &k);
+    for (int i = 0; i < k.threads; i++)
+        if (k.w[i].oom)
+            goto done;
     for (int i = 0; i < k.threads; i++) {
         st.degenerate += k.w[i].degenerate;
         st.zero_uv_area += k.w[i].zero_uv_area;

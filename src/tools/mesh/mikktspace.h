@@ -75,7 +75,8 @@ typedef struct bgt_mikk_stats {
  *  BG_ERR_OUT_OF_MEMORY. */
 bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats);
 /** The same on `threads` worker threads (0: one per online core, which is
- *  what bgt_mikk_tangents uses). The result does not depend on the count. */
+ *  what bgt_mikk_tangents uses; at most 256). The result does not depend on
+ *  the count. */
 bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats,
                                     int threads);
 
