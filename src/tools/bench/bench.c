@@ -177,7 +177,16 @@ bg_status bgt_bench_run(const bgt_bench_opts *o, bgt_bench_result *res, bgt_err 
     res->rows = calloc(nrows_max, sizeof *res->rows);
     double *rate = calloc(2 * (size_t)o->runs, sizeof *rate);
     bench_data d;
-    if (!res->rows || !rate || bench_data_init(&d, o->samples) != 0) {
+    /* The point arrays only when a point row is selected (the mesh rows make
+     * their own input). */
+    size_t points = 1;
+    for (int k = 0; k < K_COUNT; k++)
+        if (sel.ours[k] && !bench_is_mesh(k))
+            points = o->samples;
+    for (size_t p = 0; p < o->npeers && p < BGT_BENCH_MAX_PEERS; p++)
+        if (sel.peers[p])
+            points = o->samples;
+    if (!res->rows || !rate || bench_data_init(&d, points) != 0) {
         free(rate);
         bgt_bench_result_free(res);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu samples", o->samples);
