@@ -92,8 +92,12 @@ static const cli_opt bench_opts[] = {
              "pnoise3, pnoise3_grad, pfbm3, pfbm3_grad (tileable noise and 6-octave fBm, "
              "periods 16,16,16), fbm3_seed_grad (fBm with seed 1), pfbm3_grad_xy (periods "
              "16,16,0), "
-             "ours, peers, peer:<library>, "
-             "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm)"},
+             "ours (all of the above), peers, peer:<library>, "
+             "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm); "
+             "only when named: mikktspace (mikkTSpace tangents of a 1,002,528-triangle UV "
+             "sphere, samples = triangles), mesh_bake (the whole tangent-space normal-map "
+             "bake of a 131,072-triangle UV sphere into 1024 x 1024, samples = texels), mesh "
+             "(both); their sizes are fixed (--samples does not apply)"},
     {.name = "icount", .kind = CLI_KIND_STRING, .offset = A(icount), .metavar = "FILE",
      .help = "instructions per sample to put in the JSON, lines of \"<kernel> <isa> "
              "<instructions>\" (scripts/kernel_icount.sh --bench)",
@@ -136,7 +140,8 @@ static void print_json(FILE *fp, const bgt_bench_result *res)
                 "  {\"kernel\": \"%s\", \"isa\": \"%s\", \"threads\": %d, \"samples\": %zu, "
                 "\"runs\": %d, \"msamples_per_s\": %.6g, \"ns_per_sample\": %.6g, "
                 "\"min\": %.6g, \"max\": %.6g",
-                r->name, r->isa, r->threads, res->samples, res->runs, r->median,
+                r->name, r->isa, r->threads, r->samples ? r->samples : res->samples, res->runs,
+                r->median,
                 r->median > 0 ? 1e3 / r->median : 0.0, r->min, r->max);
         json_number(fp, "cpu_share", r->cpu_share);
         json_number(fp, "cpu_ns_per_sample", r->cpu_ns);
@@ -184,6 +189,13 @@ static void print_rows(FILE *fp, const bgt_bench_result *res)
         "fbm3_grad and turbulence3_grad: fbm value, without a gradient). cpu% = CPU time the\n"
         "process got / (wall time x threads): well below 100 means other jobs shared the cores.\n",
         fp);
+    for (size_t i = 0; i < res->nrows; i++)
+        if (res->rows[i].samples) {
+            fputs("mikktspace: M triangles/s of a 1,002,528-triangle UV sphere; mesh_bake: M\n"
+                  "texels/s of the whole 1024 x 1024 tangent-space bake (one call per run).\n",
+                  fp);
+            break;
+        }
     if (noisy)
         fputs(
             "~ : max - min above 10% of the median: the machine was busy, rerun on a quiet one.\n",

@@ -63,9 +63,48 @@ static void announce(const bgt_bench_opts *o, bgt_bench_row *r, int threads)
         o->measuring(o->ctx, r);
 }
 
+/* A mesh row (bench_internal.h): its sphere made once, one whole call per
+ * run on 1 and on N threads. */
+static bg_status run_mesh_row(const bgt_bench_opts *o, int k, bench_team *team, bench_job *job,
+                              double *rate, bgt_bench_result *res, bgt_err *e)
+{
+#ifndef BG_HAVE_TOOLS
+    if (k == K_MESH_BAKE)
+        return bgt_fail(e, BG_ERR_INVALID_ARGUMENT,
+                        "--kernels: mesh_bake needs the tools build (this one has none)");
+#endif
+    bg_status s = bgt_check_alloc(bench_mesh_bytes(k), "bench mesh rows", e);
+    if (s != BG_OK)
+        return s;
+    bench_mesh bm;
+    if (bench_mesh_init(&bm, k) != 0)
+        return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the %s row",
+                        bgt_bench_kernel_name((size_t)k));
+    int nthreads = bench_team_threads(team);
+    job->mesh = &bm;
+    job->kernel = k;
+    job->t = NULL;
+    for (int pass = 0; pass < (nthreads > 1 ? 2 : 1) && bm.status == BG_OK; pass++) {
+        bgt_bench_row *r = new_row(res, bg_isa_name(bg_isa_active()), k, -1);
+        snprintf(r->name, sizeof r->name, "%s", bgt_bench_kernel_name((size_t)k));
+        r->samples = bench_mesh_samples(k);
+        job->threads = pass ? nthreads : 1;
+        announce(o, r, job->threads);
+        bench_measure(team, job->threads, job, r->samples, o->runs, rate, r);
+    }
+    job->mesh = NULL;
+    s = bm.status;
+    bench_mesh_free(&bm);
+    if (s != BG_OK)
+        return bgt_fail(e, s, "the %s row failed (%s)", bgt_bench_kernel_name((size_t)k),
+                        bg_status_string(s));
+    return BG_OK;
+}
+
 /* Measure every selected row into res->rows (room for all of them). */
-static void run_rows(const bgt_bench_opts *o, const bench_sel *sel, const int isa_on[],
-                     bench_team *team, bench_job *job, double *rate, bgt_bench_result *res)
+static bg_status run_rows(const bgt_bench_opts *o, const bench_sel *sel, const int isa_on[],
+                          bench_team *team, bench_job *job, double *rate, bgt_bench_result *res,
+                          bgt_err *e)
 {
     int nthreads = bench_team_threads(team);
     for (size_t p = 0; p < o->npeers; p++) {
@@ -86,6 +125,12 @@ static void run_rows(const bgt_bench_opts *o, const bench_sel *sel, const int is
     for (int k = 0; k < K_COUNT; k++) {
         if (!sel->ours[k])
             continue;
+        if (bench_is_mesh(k)) {
+            bg_status s = run_mesh_row(o, k, team, job, rate, res, e);
+            if (s != BG_OK)
+                return s;
+            continue;
+        }
         for (int isa = 0; isa < BG_ISA_COUNT; isa++) {
             if (!isa_on[isa] || (bench_at_active_isa(k) && isa != active))
                 continue;
@@ -99,6 +144,7 @@ static void run_rows(const bgt_bench_opts *o, const bench_sel *sel, const int is
             }
         }
     }
+    return BG_OK;
 }
 
 static void init_job(bench_job *job, const bench_data *d)
@@ -131,7 +177,16 @@ bg_status bgt_bench_run(const bgt_bench_opts *o, bgt_bench_result *res, bgt_err 
     res->rows = calloc(nrows_max, sizeof *res->rows);
     double *rate = calloc(2 * (size_t)o->runs, sizeof *rate);
     bench_data d;
-    if (!res->rows || !rate || bench_data_init(&d, o->samples) != 0) {
+    /* The point arrays only when a point row is selected (the mesh rows make
+     * their own input). */
+    size_t points = 1;
+    for (int k = 0; k < K_COUNT; k++)
+        if (sel.ours[k] && !bench_is_mesh(k))
+            points = o->samples;
+    for (size_t p = 0; p < o->npeers && p < BGT_BENCH_MAX_PEERS; p++)
+        if (sel.peers[p])
+            points = o->samples;
+    if (!res->rows || !rate || bench_data_init(&d, points) != 0) {
         free(rate);
         bgt_bench_result_free(res);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for %zu samples", o->samples);
@@ -153,14 +208,19 @@ bg_status bgt_bench_run(const bgt_bench_opts *o, bgt_bench_result *res, bgt_err 
     bg_isa was = bg_isa_active();
     if (o->isa >= 0 && o->isa != (int)was)
         s = bg_isa_force((bg_isa)o->isa);
+    bg_status rows = BG_OK;
     if (s == BG_OK)
-        run_rows(o, &sel, isa_on, team, &job, rate, res);
+        rows = run_rows(o, &sel, isa_on, team, &job, rate, res, e);
     if (bg_isa_active() != was)
         (void)bg_isa_force(was);
     bench_team_stop(team);
     res->load_after = bench_load_average();
     bench_data_free(&d);
     free(rate);
+    if (rows != BG_OK) {
+        bgt_bench_result_free(res);
+        return rows;
+    }
     if (s != BG_OK) {
         bgt_bench_result_free(res);
         return bgt_fail(e, s, "--isa %s: cannot make it the active level here",

@@ -61,7 +61,9 @@ extern const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT];
  * noise3 noise3_grad fbm3_grad turbulence3_grad turbulence3_grad_central
  * perturb_surfgrad perturb_additive perturb_height fbm3 noise3_point
  * noise3_grad_point fbm3_point fbm3_grad_point noise3_n1 ... noise3_n256
- * noise3_grid fbm3_grid fbm3_grad_grid (a 128 x 128 x k lattice, rows.c). */
+ * noise3_grid fbm3_grid fbm3_grad_grid (a 128 x 128 x k lattice, rows.c) ...
+ * mikktspace mesh_bake (whole calls on a generated mesh, selected only by
+ * name or "mesh": samples are triangles and texels, mesh_rows.c). */
 size_t bgt_bench_kernel_count(void);
 const char *bgt_bench_kernel_name(size_t k);
 
@@ -72,6 +74,8 @@ typedef struct bgt_bench_row {
     int kernel;      /* index of bgt_bench_kernel_name, or -1 for a peer */
     int peer_op;     /* bgt_bench_peer_op of a peer, -1 for ours */
     int threads;
+    size_t samples;          /* per run: the run's samples, or 0 for the result's (the mesh
+                              * rows: triangles for mikktspace, texels for mesh_bake) */
     double median, min, max; /* M samples/s over the runs */
     /* CPU time the process got over wall time x threads, summed over the runs:
      * about 1 on a quiet machine, 0.5 when another job took half the cores. The

@@ -50,6 +50,10 @@ enum {
     K_PFBM3_GRAD,
     K_SFBM3_GRAD,
     K_PFBM3_GRAD_XY, /* periods (16, 16, 0): a tileable texture's x and y */
+    /* The mesh rows (mesh_rows.c): whole calls on a generated mesh, threaded
+     * inside, measured once; selected only by name (not by "all" or "ours"). */
+    K_MIKK,      /* mikkTSpace tangents: samples are triangles */
+    K_MESH_BAKE, /* the whole normal-map bake (tools build): samples are texels */
     K_COUNT
 };
 
@@ -64,6 +68,22 @@ typedef struct bench_data {
     float *arrays[BENCH_NARRAYS];
 } bench_data;
 
+/* The input of a mesh row: a UV sphere (SoA attributes px py pz nx ny nz u v,
+ * nv floats each) and room for its corner tangents. */
+typedef struct bench_mesh {
+    int kernel;
+    size_t vertex_count, triangle_count;
+    float *attr;
+    uint32_t *indices;
+    float *tangents;
+    bg_status status; /* of the last run */
+} bench_mesh;
+/* mikktspace: a 708 x 708-quad sphere, 1,002,528 triangles; mesh_bake: a
+ * 256 x 256-quad sphere (131,072 triangles) baked into a 1024 x 1024 map. */
+#define BENCH_MIKK_SIDE 708
+#define BENCH_BAKE_SIDE 256
+#define BENCH_BAKE_TEXELS 1024
+
 /* One measured row's work: our kernel on one ISA table, or one peer. */
 typedef struct bench_job {
     const bench_data *d;
@@ -73,6 +93,8 @@ typedef struct bench_job {
     bg_fractal fbm, turb;
     bg_height height;
     float step;
+    bench_mesh *mesh; /* a mesh row's input */
+    int threads;      /* a mesh row's thread count */
 } bench_job;
 
 /* The grid rows' lattice: BENCH_GRID_SIDE x BENCH_GRID_SIDE samples per z
@@ -92,6 +114,8 @@ int bench_is_point(int k);
 /* 1 for the rows that go through the public entry points (per-point and grid),
  * which run at the active ISA: measured at one ISA only (bench.c). */
 int bench_at_active_isa(int k);
+/* 1 for the mesh rows: one whole call per run, threaded inside. */
+int bench_is_mesh(int k);
 /* bgt_bench_peer_op of the comparable peer operation of kernel k, -1 if none. */
 int bench_peer_op_of(int k);
 typedef struct bench_sel {
@@ -103,6 +127,16 @@ bg_status bench_select(const char *list, const bgt_bench_peer *peers, size_t npe
 /* Fill speedup, scaling, vs_peer, best_peer of every row. */
 void bench_derive(bgt_bench_row *rows, size_t nrows);
 bg_status bench_read_icounts(const char *path, bgt_bench_row *rows, size_t nrows, bgt_err *e);
+
+/* mesh_rows.c */
+/* The samples of a mesh row's run (triangles, texels), and the bytes its
+ * input and the call take (about). */
+size_t bench_mesh_samples(int kernel);
+double bench_mesh_bytes(int kernel);
+/* 0, or -1 out of memory (then *bm holds nothing). */
+int bench_mesh_init(bench_mesh *bm, int kernel);
+void bench_mesh_free(bench_mesh *bm);
+void bench_mesh_run(const bench_job *j);
 
 /* timer.c */
 int bench_data_init(bench_data *d, size_t n);

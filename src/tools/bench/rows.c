@@ -48,6 +48,8 @@ static const kernel_info kernels[K_COUNT] = {
     {"pfbm3_grad", BGT_PEER_FBM},           /* + analytic gradient */
     {"fbm3_seed_grad", BGT_PEER_FBM},       /* 6-octave fBm, seed 1, + analytic gradient */
     {"pfbm3_grad_xy", BGT_PEER_FBM},        /* pfbm3_grad with periods (16, 16, 0) */
+    {"mikktspace", -1},                     /* mikkTSpace tangents: triangles/s */
+    {"mesh_bake", -1},                      /* the whole normal-map bake: texels/s */
 };
 
 /* The domains of the rows above. */
@@ -63,7 +65,11 @@ const char *bgt_bench_kernel_name(size_t k) { return k < K_COUNT ? kernels[k].na
 int bench_peer_op_of(int k) { return k >= 0 && k < K_COUNT ? kernels[k].peer_op : -1; }
 int bench_is_point(int k) { return k >= K_NOISE3_POINT && k <= K_NOISE3_BATCH1_POINT; }
 static int is_grid(int k) { return k >= K_NOISE3_GRID && k <= K_FBM3_GRAD_GRID; }
-int bench_at_active_isa(int k) { return bench_is_point(k) || is_grid(k) || k == K_STREAM3; }
+int bench_is_mesh(int k) { return k == K_MIKK || k == K_MESH_BAKE; }
+int bench_at_active_isa(int k)
+{
+    return bench_is_point(k) || is_grid(k) || k == K_STREAM3 || bench_is_mesh(k);
+}
 
 /* Points per call of the K_NOISE3_N* rows. */
 static size_t chunk_of(int k)
@@ -130,6 +136,10 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
     size_t n = e - b;
     if (n == 0)
         return;
+    if (bench_is_mesh(j->kernel)) {
+        bench_mesh_run(j);
+        return;
+    }
     if (j->peer) {
         j->peer->run(d->px + b, d->py + b, d->pz + b, n, d->v + b, d->ox + b, d->oy + b, d->oz + b);
         return;
@@ -221,7 +231,8 @@ static int select_token(const char *tok, bench_sel *sel, const bgt_bench_peer *p
     int hit = 0;
     int all = strcmp(tok, "all") == 0;
     for (int k = 0; k < K_COUNT; k++)
-        if (all || strcmp(tok, "ours") == 0 || strcmp(tok, kernels[k].name) == 0)
+        if (((all || strcmp(tok, "ours") == 0) && !bench_is_mesh(k)) ||
+            strcmp(tok, kernels[k].name) == 0 || (strcmp(tok, "mesh") == 0 && bench_is_mesh(k)))
             sel->ours[k] = hit = 1;
     int all_peers = all || strcmp(tok, "peers") == 0;
     hit |= all_peers;

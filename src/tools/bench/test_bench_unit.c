@@ -59,8 +59,23 @@ static void check_grid_rows(void)
     bench_data_free(&d);
 }
 
+/* The mesh rows (whole calls, seconds each) run only by name or "mesh". */
+static void check_mesh_selection(void)
+{
+    bgt_err e;
+    bench_sel sel;
+    CHECK(bench_select("ours", NULL, 0, &sel, &e) == BG_OK && sel.ours[K_NOISE3] &&
+              !sel.ours[K_MIKK] && !sel.ours[K_MESH_BAKE] &&
+              bench_select("mesh", NULL, 0, &sel, &e) == BG_OK && sel.ours[K_MIKK] &&
+              sel.ours[K_MESH_BAKE] && !sel.ours[K_NOISE3] &&
+              bench_select("mikktspace", NULL, 0, &sel, &e) == BG_OK && sel.ours[K_MIKK] &&
+              !sel.ours[K_MESH_BAKE],
+          "mesh rows selected only by name");
+}
+
 int main(void)
 {
     check_grid_rows();
+    check_mesh_selection();
     return check_summary("test_bench_unit");
 }

@@ -180,4 +180,12 @@ typedef struct bgt_mesh_result {
  * an image format); BG_ERR_IO or BG_ERR_OUT_OF_MEMORY when the run fails. */
 bg_status bgt_mesh_run(const bgt_mesh_opts *o, bgt_mesh_result *r, bgt_err *e);
 
+/* The bake of bgt_mesh_run in memory, for `bumpgrad bench` (mesh_bench.c):
+ * `m` (with UVs) and its unit vertex normals nx..nz baked with `o` (the
+ * height `h` opened); the tiles are made and dropped. Status and stats as
+ * mesh_bake's. */
+bg_status bgt_mesh_bake_dropped(const bg_mesh *m, const float *nx, const float *ny,
+                                const float *nz, const bgt_height *h, const mesh_bake_opts *o,
+                                mesh_bake_stats *stats, bgt_err *e);
+
 #endif

@@ -604,7 +604,7 @@ bg_status mesh_bake_corner_tangents(const bg_mesh *m, const float *nx, const flo
     } else {
         bgt_mikk_mesh mm = {m->vertex_count, m->triangle_count, m->indices, m->px, m->py,
                             m->pz, nx, ny, nz, m->u, m->v};
-        bg_status rc = bgt_mikk_tangents(&mm, t, &stats->mikk);
+        bg_status rc = bgt_mikk_tangents_threads(&mm, t, &stats->mikk, o->threads);
         if (rc != BG_OK) {
             free(t);
             return bgt_fail(e, rc, "mikkTSpace tangents failed (%s)", bg_status_string(rc));

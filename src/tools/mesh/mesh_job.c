@@ -663,14 +663,17 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
             mesh_bake_stats scratch;
             memset(&scratch, 0, sizeof scratch);
             /* job->m: the positions the bake's frames came from */
-            if ((st = mesh_bake_corner_tangents(job->m, nx, ny, nz, &o->bake, &w->gltf_tan,
-                                                &scratch, e)) != BG_OK)
+            mesh_bake_opts bo = o->bake;
+            bo.threads = o->threads;
+            if ((st = mesh_bake_corner_tangents(job->m, nx, ny, nz, &bo, &w->gltf_tan, &scratch,
+                                                e)) != BG_OK)
                 return st;
         } else {
             w->gltf_tan = malloc((nt ? 3 * nt : 1) * 4 * sizeof *w->gltf_tan);
             bgt_mikk_mesh mm = {nv, nt, m->indices, job->m->px, job->m->py, job->m->pz,
                                 nx, ny, nz, m->u, m->v};
-            if (!w->gltf_tan || bgt_mikk_tangents(&mm, w->gltf_tan, NULL) != BG_OK)
+            if (!w->gltf_tan ||
+                bgt_mikk_tangents_threads(&mm, w->gltf_tan, NULL, o->threads) != BG_OK)
                 return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF tangents");
         }
     }

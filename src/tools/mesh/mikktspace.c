@@ -1,7 +1,17 @@
 /* SPDX-License-Identifier: MIT */
 /* mikkTSpace per-corner tangents, our implementation of the published
  * description (see mikktspace.h for the rules and their sources). Sums and
- * projections run in double and are rounded to float once at the end. */
+ * projections run in double and are rounded to float once at the end.
+ *
+ * The passes: welding (a hash table in vertex order), the triangles
+ * (parallel), the corners of each welded vertex (a counting sort), then per
+ * welded vertex in parallel the edge neighbours and the fans with their
+ * tangents. Every corner belongs to one vertex and each vertex's work reads
+ * only what the earlier passes made, so the result does not depend on the
+ * thread count (zero-UV-area triangles, whose orientation depends on the
+ * order of the fans, take a serial path). */
+#define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* MADV_HUGEPAGE */
 #include "mesh/mikktspace.h"
 
 #include <float.h>
@@ -10,6 +20,28 @@
 #include <string.h>
 #include "common/parallel.h"
 #include "mesh/mesh_sort.h"
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+/* The per-triangle and per-corner arrays: 100 MB for a million triangles,
+ * which the first writes fault in page by page. On Linux they are asked for
+ * in huge pages (transparent huge pages in madvise mode), 2 MB at a time.
+ * Freed with free(). */
+static void *big_alloc(size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    const size_t huge = (size_t)2 << 20;
+    if (bytes >= 2 * huge) {
+        void *p = NULL;
+        if (posix_memalign(&p, huge, bytes) != 0)
+            return NULL;
+        (void)madvise(p, bytes, MADV_HUGEPAGE); /* advice only: may fail */
+        return p;
+    }
+#endif
+    return malloc(bytes ? bytes : 1);
+}
 
 typedef struct d3 {
     double x, y, z;
@@ -56,26 +88,39 @@ static f3 f3_tangential(f3 a, f3 n)
 
 enum { TRI_DEGENERATE = 1, TRI_ANY = 2, TRI_PRESERVING = 4 };
 
+/* What one worker thread owns: buffers sized by the largest vertex valence
+ * (the triangles around one welded vertex), and its counts. */
+typedef struct mikk_worker {
+    int32_t *stack;   /* fan growth: at most 2 per member + 2 */
+    int32_t *members; /* the fan being grown */
+    int32_t *scratch; /* MIKK_SCRATCH: the subfans of fan_output, on first need */
+    int oom;          /* the scratch could not be had */
+    uint64_t *edges;  /* neighbour matching: (other vertex, triangle, edge) */
+    struct d3 *term;  /* the fan's members' terms (fan_term) */
+    uint8_t *corner;  /* the fan's members' corners at its vertex */
+    size_t fans, unreached, degenerate, zero_uv_area;
+} mikk_worker;
+
 typedef struct mikk {
     const bgt_mikk_mesh *m;
-    size_t T;
+    size_t T, nv;
+    int threads;
     uint32_t *weld;   /* per vertex: representative vertex of its welded class */
+    uint32_t *wc;     /* per corner: its welded vertex */
     uint8_t *flags;   /* per triangle */
-    d3 *os, *ot;      /* per triangle: unit dP/du and dP/dv directions, oriented */
-    f3 *fos, *fot;    /* the same in float (the split test of rule 5) */
+    d3 *os;           /* per triangle: unit dP/du direction, oriented */
+    f3 *fos, *fot;    /* dP/du and dP/dv in float (the split test of rule 5) */
     int32_t *nb;      /* per triangle edge k (corner k to k+1): neighbour, -1 */
-    int32_t *grp;     /* per corner: fan, -1 */
-    /* fans */
-    uint32_t *g_vert;
-    uint8_t *g_pres;
-    size_t *g_start, *g_count;
-    size_t groups;
-    int32_t *members; /* fan members, fans stored one after the other */
-    size_t nmembers;
-    int32_t *stack;
+    uint8_t *grouped; /* per corner: taken by a fan */
+    /* the corners of each welded vertex in corner order: v_corner[v_start[v]
+     * .. v_start[v + 1]) (empty for a vertex that is not a representative) */
+    uint32_t *v_start, *v_corner;
+    uint8_t *touched; /* per vertex: a corner of a zero-UV-area triangle */
+    float *out;
+    mikk_worker *w;
 } mikk;
 
-static uint32_t wv(const mikk *k, size_t corner) { return k->weld[k->m->indices[corner]]; }
+static uint32_t wv(const mikk *k, size_t corner) { return k->wc[corner]; }
 
 static d3 pos(const bgt_mikk_mesh *m, uint32_t i) { return (d3){m->px[i], m->py[i], m->pz[i]}; }
 static d3 nrm(const bgt_mikk_mesh *m, uint32_t i) { return (d3){m->nx[i], m->ny[i], m->nz[i]}; }
@@ -108,79 +153,143 @@ static void float_directions(mikk *k, size_t t)
         k->fot[t] = f3_scale(sg / lt, tt);
 }
 
-/* ---- 1. welding ---- */
 
-/* k: the 8 attributes as keys (-0 welds with +0, as float == does), then
- * the vertex index */
-typedef struct vkey {
-    uint32_t k[9];
-    uint32_t nan; /* some attribute is NaN: equal to nothing */
-} vkey;
+/* ---- 1. welding ----
+ * Each vertex's 8 attributes as keys whose equality is float == (-0 welds
+ * with +0; a vertex with a NaN attribute welds with nothing), hashed into an
+ * open-addressing table in vertex order: the first vertex of a class to be
+ * inserted, i.e. its smallest index, is the class's representative. */
 
-static int cmp_vkey(const void *a, const void *b)
+/* The 8 attributes of vertex i as keys whose equality is float ==. */
+static void vertex_keys(const bgt_mikk_mesh *m, size_t i, uint32_t key[8], int *nan)
 {
-    return mesh_keys_cmp(((const vkey *)a)->k, ((const vkey *)b)->k, 9);
+    const float f[8] = {m->px[i], m->py[i], m->pz[i], m->nx[i],
+                        m->ny[i], m->nz[i], m->u[i],  m->v[i]};
+    *nan = 0;
+    for (int a = 0; a < 8; a++) {
+        key[a] = mesh_float_key(f[a]);
+        *nan |= isnan(f[a]);
+    }
 }
 
-/* weld[i] = smallest vertex index with the same attributes; returns the
- * number of distinct referenced vertices, or (size_t)-1 out of memory. */
-static size_t weld_vertices(mikk *k)
+typedef struct weld_job {
+    const bgt_mikk_mesh *m;
+    uint32_t *hash; /* UINT32_MAX marks a NaN vertex (a hash of UINT32_MAX is remapped) */
+} weld_job;
+
+static void weld_hashes(void *ctx, size_t b, size_t e, int worker)
 {
-    const bgt_mikk_mesh *m = k->m;
-    size_t nv = m->vertex_count;
-    uint8_t *used = calloc(nv ? nv : 1, 1);
-    if (!used)
-        return (size_t)-1;
-    for (size_t c = 0; c < 3 * k->T; c++)
-        used[m->indices[c]] = 1;
-    size_t nu = 0;
-    for (size_t i = 0; i < nv; i++)
-        nu += used[i];
-    vkey *keys = malloc((nu ? nu : 1) * sizeof *keys);
-    if (!keys) {
-        free(used);
-        return (size_t)-1;
+    (void)worker;
+    const weld_job *j = ctx;
+    for (size_t i = b; i < e; i++) {
+        uint32_t key[8];
+        int nan;
+        vertex_keys(j->m, i, key, &nan);
+        uint64_t h = UINT64_C(0x9e3779b97f4a7c15);
+        for (int a = 0; a < 8; a++)
+            h = (h ^ key[a]) * UINT64_C(0xff51afd7ed558ccd);
+        uint32_t h32 = (uint32_t)(h >> 32) ^ (uint32_t)h;
+        j->hash[i] = nan ? UINT32_MAX : (h32 == UINT32_MAX ? 0 : h32);
     }
-    nu = 0;
+}
+
+/* The table is cut into one region per part; part p inserts the vertices
+ * whose hash falls to it, in vertex order. A class lies in one part, so the
+ * parts run in parallel and the result is that of one table. */
+typedef struct weld_part_job {
+    mikk *k;
+    const uint8_t *used;
+    const uint32_t *hash;
+    uint32_t *table; /* vertex + 1, 0 = empty */
+    size_t parts, region;
+    size_t *merged; /* per part: vertices welded to an earlier one */
+} weld_part_job;
+
+static void weld_part(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    const weld_part_job *j = ctx;
+    mikk *k = j->k;
+    for (size_t p = b; p < e; p++) {
+        uint32_t *table = j->table + p * j->region;
+        size_t mask = j->region - 1, merged = 0;
+        for (size_t i = 0; i < k->nv; i++) {
+            uint32_t h = j->hash[i];
+            if (!j->used[i] || h == UINT32_MAX || h % j->parts != p)
+                continue;
+            uint32_t ki[8], ko[8];
+            int nan, have = 0;
+            for (size_t s = (h / j->parts) & mask;; s = (s + 1) & mask) {
+                uint32_t o = table[s];
+                if (o == 0) {
+                    table[s] = (uint32_t)i + 1;
+                    break;
+                }
+                o--;
+                if (j->hash[o] != h)
+                    continue;
+                if (!have)
+                    vertex_keys(k->m, i, ki, &nan), have = 1;
+                vertex_keys(k->m, o, ko, &nan);
+                if (memcmp(ko, ki, sizeof ki) == 0) {
+                    k->weld[i] = o; /* o < i: the class's first vertex */
+                    merged++;
+                    break;
+                }
+            }
+        }
+        j->merged[p] = merged;
+    }
+}
+
+/* weld[i] = smallest vertex index with the same attributes; `used` marks the
+ * vertices the triangles reference. Returns the number of distinct referenced
+ * vertices, or (size_t)-1 out of memory. */
+static size_t weld_vertices(mikk *k, const uint8_t *used)
+{
+    size_t nv = k->nv, nu = 0;
     for (size_t i = 0; i < nv; i++) {
+        nu += used[i];
         k->weld[i] = (uint32_t)i;
-        if (!used[i])
-            continue;
-        const float f[8] = {m->px[i], m->py[i], m->pz[i], m->nx[i],
-                            m->ny[i], m->nz[i], m->u[i],  m->v[i]};
-        vkey *q = keys + nu++;
-        q->k[8] = (uint32_t)i;
-        q->nan = 0;
-        for (int j = 0; j < 8; j++) {
-            q->k[j] = mesh_float_key(f[j]);
-            q->nan |= isnan(f[j]) ? 1u : 0u;
-        }
     }
-    free(used);
-    qsort(keys, nu, sizeof *keys, cmp_vkey);
-    size_t classes = 0;
-    for (size_t j = 0; j < nu; j++) {
-        const vkey *q = keys + j;
-        if (j > 0 && !q->nan && !q[-1].nan && mesh_keys_cmp(q->k, q[-1].k, 8) == 0) {
-            k->weld[q->k[8]] = k->weld[q[-1].k[8]];
-        } else {
-            k->weld[q->k[8]] = q->k[8]; /* first of its run = smallest index */
-            classes++;
-        }
+    size_t parts = (size_t)k->threads, region = 16;
+    while (region * parts < 2 * nu)
+        region *= 2;
+    uint32_t *hash = big_alloc(nv * sizeof *hash);
+    uint32_t *table = calloc(region * parts, sizeof *table);
+    size_t *merged = calloc(parts, sizeof *merged);
+    size_t classes = (size_t)-1;
+    if (hash && table && merged) {
+        weld_job j = {k->m, hash};
+        bgt_parallel_for(nv, 16384, k->threads, weld_hashes, &j);
+        weld_part_job pj = {k, used, hash, table, parts, region, merged};
+        bgt_parallel_for(parts, 1, k->threads, weld_part, &pj);
+        classes = nu;
+        for (size_t p = 0; p < parts; p++)
+            classes -= merged[p];
     }
-    free(keys);
+    free(hash);
+    free(table);
+    free(merged);
     return classes;
 }
 
 /* ---- 2./3. triangle classification and UV directions ---- */
 
-static void classify(mikk *k, bgt_mikk_stats *st)
+static void classify_chunk(void *ctx, size_t b, size_t e, int worker)
 {
+    mikk *k = ctx;
+    mikk_worker *w = &k->w[worker];
     const bgt_mikk_mesh *m = k->m;
-    for (size_t t = 0; t < k->T; t++) {
+    for (size_t t = b; t < e; t++) {
         const uint32_t *ix = m->indices + 3 * t;
+        for (int c = 0; c < 3; c++) {
+            k->wc[3 * t + (size_t)c] = k->weld[ix[c]];
+            k->nb[3 * t + (size_t)c] = -1;
+            k->grouped[3 * t + (size_t)c] = 0;
+        }
         d3 p0 = pos(m, ix[0]), p1 = pos(m, ix[1]), p2 = pos(m, ix[2]);
-        k->os[t] = k->ot[t] = (d3){0, 0, 0};
+        k->os[t] = (d3){0, 0, 0};
         k->fos[t] = k->fot[t] = (f3){0.0f, 0.0f, 0.0f};
         k->flags[t] = 0;
         int finite = isfinite(p0.x) && isfinite(p0.y) && isfinite(p0.z) && isfinite(p1.x) &&
@@ -191,7 +300,7 @@ static void classify(mikk *k, bgt_mikk_stats *st)
         int eq12 = p1.x == p2.x && p1.y == p2.y && p1.z == p2.z;
         if (!finite || eq01 || eq02 || eq12) {
             k->flags[t] = TRI_DEGENERATE;
-            st->degenerate++;
+            w->degenerate++;
             continue;
         }
         double du1 = (double)m->u[ix[1]] - m->u[ix[0]], dv1 = (double)m->v[ix[1]] - m->v[ix[0]];
@@ -207,111 +316,88 @@ static void classify(mikk *k, bgt_mikk_stats *st)
             double ls = sqrt(d3_dot(s, s)), lt = sqrt(d3_dot(tt, tt));
             if (ls > FLT_MIN)
                 k->os[t] = d3_scale(s, sg / ls);
-            if (lt > FLT_MIN)
-                k->ot[t] = d3_scale(tt, sg / lt);
             double ms = ls / fabs(area), mt = lt / fabs(area);
             any = !(ms > FLT_MIN && mt > FLT_MIN);
         }
         if (any) {
             f |= TRI_ANY;
-            st->zero_uv_area++;
+            w->zero_uv_area++;
         }
         float_directions(k, t);
         k->flags[t] = f;
     }
 }
 
-/* ---- 4a. edge neighbours ---- */
+/* ---- 4a. edge neighbours ----
+ * Every edge of a non-degenerate triangle, as (lower welded vertex, higher,
+ * triangle, edge number), matched with the first unmatched edge after it in
+ * that order that runs the opposite way. Only edges between the same two
+ * vertices can match, so each lower vertex's edges are matched on their own
+ * (in parallel): they come from that vertex's corners, already in triangle
+ * order, and are sorted stably by the higher vertex. */
 
-/* k: lower and higher welded vertex, triangle, edge number in it */
-typedef struct edge {
-    uint32_t k[4];
-} edge;
-enum { E_LO, E_HI, E_TRI, E_K };
-
-static int cmp_edge(const void *a, const void *b)
+/* Edge records of one lower vertex: (higher vertex) << 32 | triangle << 2 |
+ * edge number, so that their numeric order is the (higher, triangle, edge)
+ * order (fewer than 2^30 triangles: checked on entry). */
+static void sort_edges(uint64_t *e, size_t n)
 {
-    return mesh_keys_cmp(((const edge *)a)->k, ((const edge *)b)->k, 4);
+    for (size_t i = 1; i < n; i++) {
+        uint64_t x = e[i];
+        size_t j = i;
+        for (; j > 0 && e[j - 1] > x; j--)
+            e[j] = e[j - 1];
+        e[j] = x;
+    }
 }
 
-/* Stable LSD radix sort of e[0..n) by (k[E_LO], k[E_HI]), 16-bit digits, low
- * digit of E_HI first: the edges are made in (triangle, edge) order, so the
- * result is the order of cmp_edge's full key, which qsort gave (the keys are
- * distinct, so any correct sort gives this one order): the same neighbours,
- * without qsort's comparator calls (42% of the instructions of 180k
- * triangles under callgrind). tmp holds n edges. */
-static void sort_edges(edge *e, edge *tmp, size_t n)
+static int cmp_u64(const void *a, const void *b)
 {
-    static const int field[4] = {E_HI, E_HI, E_LO, E_LO};
-    size_t *count = calloc(65536, sizeof *count);
-    if (!count) {
-        qsort(e, n, sizeof *e, cmp_edge);
-        return;
-    }
-    edge *src = e, *dst = tmp;
-    for (int pass = 0; pass < 4; pass++) {
-        const int f = field[pass], sh = (pass & 1) ? 16 : 0;
-        memset(count, 0, 65536 * sizeof *count);
-        for (size_t i = 0; i < n; i++)
-            count[(src[i].k[f] >> sh) & 0xffff]++;
-        size_t sum = 0;
-        for (size_t d = 0; d < 65536; d++) {
-            size_t c = count[d];
-            count[d] = sum;
-            sum += c;
-        }
-        for (size_t i = 0; i < n; i++)
-            dst[count[(src[i].k[f] >> sh) & 0xffff]++] = src[i];
-        edge *t = src;
-        src = dst, dst = t;
-    }
-    free(count); /* 4 passes: the result is back in e */
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
 }
 
-static int build_neighbours(mikk *k)
+static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 {
-    size_t T = k->T, n = 0;
-    for (size_t t = 0; t < T; t++)
-        n += (k->flags[t] & TRI_DEGENERATE) ? 0 : 3;
-    edge *e = malloc((n ? n : 1) * sizeof *e);
-    if (!e)
-        return -1;
-    n = 0;
-    for (size_t t = 0; t < T; t++) {
-        k->nb[3 * t] = k->nb[3 * t + 1] = k->nb[3 * t + 2] = -1;
-        if (k->flags[t] & TRI_DEGENERATE)
-            continue;
-        for (int c = 0; c < 3; c++) {
-            uint32_t a = wv(k, 3 * t + (size_t)c), b = wv(k, 3 * t + (size_t)((c + 1) % 3));
-            e[n++] = (edge){{a < b ? a : b, a < b ? b : a, (uint32_t)t, (uint32_t)c}};
+    mikk *k = ctx;
+    uint64_t *ed = k->w[worker].edges;
+    for (size_t v = b; v < e; v++) {
+        size_t n = 0;
+        for (uint32_t i = k->v_start[v]; i < k->v_start[v + 1]; i++) {
+            uint32_t c = k->v_corner[i], t = c / 3, kc = c % 3, kp = (kc + 2) % 3;
+            if (k->flags[t] & TRI_DEGENERATE)
+                continue;
+            /* edge kc leaves v, edge kp arrives at it: in edge-number order */
+            uint32_t next = wv(k, 3 * (size_t)t + (kc + 1) % 3), prev = wv(k, 3 * (size_t)t + kp);
+            uint64_t tk = (uint64_t)t << 2;
+            if (kp < kc && prev > v)
+                ed[n++] = (uint64_t)prev << 32 | tk | kp;
+            if (next > v)
+                ed[n++] = (uint64_t)next << 32 | tk | kc;
+            if (kp > kc && prev > v)
+                ed[n++] = (uint64_t)prev << 32 | tk | kp;
         }
-    }
-    edge *tmp = malloc((n ? n : 1) * sizeof *tmp);
-    if (tmp) {
-        sort_edges(e, tmp, n);
-        free(tmp);
-    } else {
-        qsort(e, n, sizeof *e, cmp_edge);
-    }
-    for (size_t i = 0; i < n; i++) {
-        const uint32_t *ei = e[i].k;
-        size_t ca = 3 * (size_t)ei[E_TRI] + ei[E_K];
-        if (k->nb[ca] >= 0)
-            continue;
-        uint32_t from = wv(k, ca), to = wv(k, 3 * (size_t)ei[E_TRI] + (ei[E_K] + 1) % 3);
-        for (size_t j = i + 1; j < n && mesh_keys_cmp(e[j].k, ei, 2) == 0; j++) {
-            const uint32_t *ej = e[j].k;
-            size_t cb = 3 * (size_t)ej[E_TRI] + ej[E_K];
-            uint32_t bf = wv(k, cb), bt = wv(k, 3 * (size_t)ej[E_TRI] + (ej[E_K] + 1) % 3);
-            if (bf == to && bt == from && k->nb[cb] < 0) {
-                k->nb[ca] = (int32_t)ej[E_TRI];
-                k->nb[cb] = (int32_t)ei[E_TRI];
-                break;
+        if (n <= 32)
+            sort_edges(ed, n);
+        else
+            qsort(ed, n, sizeof *ed, cmp_u64); /* the records are distinct */
+        /* Two edges between v and the same vertex match when they run
+         * opposite ways: one leaves v (its first corner is at v), the other
+         * arrives. */
+        for (size_t i = 0; i < n; i++) {
+            size_t ca = (size_t)(ed[i] >> 2 & 0x3fffffff) * 3 + (ed[i] & 3);
+            if (k->nb[ca] >= 0)
+                continue;
+            int leaves = wv(k, ca) == v;
+            for (size_t j = i + 1; j < n && ed[j] >> 32 == ed[i] >> 32; j++) {
+                size_t cb = (size_t)(ed[j] >> 2 & 0x3fffffff) * 3 + (ed[j] & 3);
+                if ((wv(k, cb) == v) != leaves && k->nb[cb] < 0) {
+                    k->nb[ca] = (int32_t)(cb / 3);
+                    k->nb[cb] = (int32_t)(ca / 3);
+                    break;
+                }
             }
         }
     }
-    free(e);
-    return 0;
 }
 
 /* ---- 4b. fans ---- */
@@ -324,70 +410,52 @@ static int corner_of(const mikk *k, size_t t, uint32_t vert)
     return -1;
 }
 
-/* Grow fan g from its seed triangle: depth first, first across the edge that
- * leaves the fan's corner forward (corner c to c+1), then across the edge that
- * arrives at it (c-1 to c). The traversal order matters only for zero-UV-area
- * triangles, which take the orientation of the first fan that reaches them. */
-static void grow_fan(mikk *k, size_t g, size_t seed, int seed_corner)
+/* Grow the fan of `vert` from its seed triangle into w->members and the
+ * members' corners at `vert` into w->corner (returns the count): depth first, first across the edge that leaves the fan's corner
+ * forward (corner c to c+1), then across the edge that arrives at it (c-1 to
+ * c). The traversal order matters only for zero-UV-area triangles, which take
+ * the orientation of the first fan that reaches them. */
+static size_t grow_fan(mikk *k, mikk_worker *w, uint32_t vert, int pres, size_t seed,
+                       int seed_corner)
 {
-    uint32_t vert = k->g_vert[g];
-    size_t sp = 0;
-    k->grp[3 * seed + (size_t)seed_corner] = (int32_t)g;
-    k->members[k->nmembers++] = (int32_t)seed;
-    k->g_count[g]++;
+    size_t sp = 0, n = 0;
+    k->grouped[3 * seed + (size_t)seed_corner] = 1;
+    w->corner[n] = (uint8_t)seed_corner;
+    w->members[n++] = (int32_t)seed;
     /* push the second edge first so that the first is explored first */
     int32_t r = k->nb[3 * seed + (size_t)((seed_corner + 2) % 3)];
     int32_t l = k->nb[3 * seed + (size_t)seed_corner];
     if (r >= 0)
-        k->stack[sp++] = r;
+        w->stack[sp++] = r;
     if (l >= 0)
-        k->stack[sp++] = l;
+        w->stack[sp++] = l;
     while (sp > 0) {
-        size_t t = (size_t)k->stack[--sp];
+        size_t t = (size_t)w->stack[--sp];
         int c = corner_of(k, t, vert);
         if (c < 0)
             continue; /* cannot happen: the shared edge holds the vertex */
-        int32_t *slot = &k->grp[3 * t + (size_t)c];
-        if (*slot >= 0)
+        uint8_t *slot = &k->grouped[3 * t + (size_t)c];
+        if (*slot)
             continue; /* already in this fan, or in another */
         if (k->flags[t] & TRI_ANY) {
-            const int32_t *gs = k->grp + 3 * t;
-            if (gs[0] < 0 && gs[1] < 0 && gs[2] < 0)
+            const uint8_t *gs = k->grouped + 3 * t;
+            if (!gs[0] && !gs[1] && !gs[2])
                 k->flags[t] = (uint8_t)((k->flags[t] & ~TRI_PRESERVING) |
-                                        (k->g_pres[g] ? TRI_PRESERVING : 0));
+                                        (pres ? TRI_PRESERVING : 0));
         }
-        if (((k->flags[t] & TRI_PRESERVING) != 0) != (k->g_pres[g] != 0))
+        if (((k->flags[t] & TRI_PRESERVING) != 0) != (pres != 0))
             continue;
-        *slot = (int32_t)g;
-        k->members[k->nmembers++] = (int32_t)t;
-        k->g_count[g]++;
+        *slot = 1;
+        w->corner[n] = (uint8_t)c;
+        w->members[n++] = (int32_t)t;
         r = k->nb[3 * t + (size_t)((c + 2) % 3)];
         l = k->nb[3 * t + (size_t)c];
         if (r >= 0)
-            k->stack[sp++] = r;
+            w->stack[sp++] = r;
         if (l >= 0)
-            k->stack[sp++] = l;
+            w->stack[sp++] = l;
     }
-}
-
-static void build_fans(mikk *k)
-{
-    for (size_t c = 0; c < 3 * k->T; c++)
-        k->grp[c] = -1;
-    for (size_t t = 0; t < k->T; t++) {
-        if (k->flags[t] & (TRI_DEGENERATE | TRI_ANY))
-            continue;
-        for (int c = 0; c < 3; c++) {
-            if (k->grp[3 * t + (size_t)c] >= 0)
-                continue;
-            size_t g = k->groups++;
-            k->g_vert[g] = wv(k, 3 * t + (size_t)c);
-            k->g_pres[g] = (k->flags[t] & TRI_PRESERVING) != 0;
-            k->g_start[g] = k->nmembers;
-            k->g_count[g] = 0;
-            grow_fan(k, g, t, c);
-        }
-    }
+    return n;
 }
 
 /* ---- 5. tangent of a (sub)fan ---- */
@@ -406,58 +474,105 @@ static double projected_angle(const mikk *k, size_t t, int c, d3 n)
     return acos(cs);
 }
 
-static d3 fan_tangent(const mikk *k, const int32_t *tris, size_t n, uint32_t vert)
+/* A member triangle's term of its fan's sum: angle * normalize(os projected);
+ * zero-UV-area triangles have none. */
+static d3 fan_term(const mikk *k, size_t t, int c)
 {
     const bgt_mikk_mesh *m = k->m;
+    d3 nn = nrm(m, m->indices[3 * t + (size_t)c]);
+    d3 os = d3_tangential(k->os[t], nn);
+    return d3_scale(os, projected_angle(k, t, c, nn));
+}
+
+/* The tangent of the members list[0..n-1] (indices into the fan's terms):
+ * their terms summed in list order, normalized. */
+static d3 fan_tangent(const mikk *k, const int32_t *mem, const d3 *term, const int32_t *list,
+                      size_t n)
+{
     d3 sum = {0, 0, 0};
-    for (size_t i = 0; i < n; i++) {
-        size_t t = (size_t)tris[i];
-        if (k->flags[t] & TRI_ANY)
-            continue; /* no direction of its own */
-        int c = corner_of(k, t, vert);
-        d3 nn = nrm(m, m->indices[3 * t + (size_t)c]);
-        d3 os = d3_tangential(k->os[t], nn);
-        sum = d3_add(sum, d3_scale(os, projected_angle(k, t, c, nn)));
-    }
+    for (size_t i = 0; i < n; i++)
+        if (!(k->flags[mem[list[i]]] & TRI_ANY))
+            sum = d3_add(sum, term[list[i]]);
     return d3_unit_if(sum);
 }
 
-/* Split fan g where projected directions point exactly opposite (the
- * reference's angular threshold at its default of 180 degrees) and write the
- * tangents of its corners. */
+static void put_corner(float *out, size_t c, d3 tg, float w)
+{
+    out[4 * c] = (float)tg.x, out[4 * c + 1] = (float)tg.y, out[4 * c + 2] = (float)tg.z;
+    out[4 * c + 3] = w;
+}
+
+/* One tangent for the whole fan: the terms summed in member order. */
+static void whole_fan(const mikk *k, const int32_t *mem, const d3 *term, const uint8_t *corner,
+                      size_t n, float w, float *out)
+{
+    d3 tg = {0, 0, 0};
+    for (size_t i = 0; i < n; i++)
+        if (!(k->flags[mem[i]] & TRI_ANY))
+            tg = d3_add(tg, term[i]);
+    tg = d3_unit_if(tg);
+    for (size_t i = 0; i < n; i++)
+        put_corner(out, 3 * (size_t)mem[i] + corner[i], tg, w);
+}
+
+/* Split the fan mem[0..n-1] (corner[i]: member i's corner at the fan's vertex)
+ * where projected directions point exactly opposite (the reference's angular
+ * threshold at its default of 180 degrees) and write the tangents of its
+ * corners. */
 #define MIKK_SPLIT_MAX 256
-static void fan_output(const mikk *k, size_t g, float *out, int32_t *scratch)
+/* scratch: the member lists of the distinct subfans, each preceded by its
+ * length (at most MIKK_SPLIT_MAX lists of MIKK_SPLIT_MAX) */
+#define MIKK_SCRATCH ((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1))
+static void fan_output(const mikk *k, mikk_worker *wk, const int32_t *mem, size_t n, int pres,
+                       float *out, d3 *term, const uint8_t *corner)
 {
     const bgt_mikk_mesh *m = k->m;
-    const int32_t *mem = k->members + k->g_start[g];
-    size_t n = k->g_count[g];
-    uint32_t vert = k->g_vert[g];
-    float w = k->g_pres[g] ? 1.0f : -1.0f;
+    float w = pres ? 1.0f : -1.0f;
+    for (size_t i = 0; i < n; i++) {
+        size_t t = (size_t)mem[i];
+        if (!(k->flags[t] & TRI_ANY))
+            term[i] = fan_term(k, t, corner[i]);
+    }
     if (n > MIKK_SPLIT_MAX) {
-        d3 tg = fan_tangent(k, mem, n, vert);
-        for (size_t i = 0; i < n; i++) {
-            size_t c = 3 * (size_t)mem[i] + (size_t)corner_of(k, (size_t)mem[i], vert);
-            out[4 * c] = (float)tg.x, out[4 * c + 1] = (float)tg.y, out[4 * c + 2] = (float)tg.z;
-            out[4 * c + 3] = w;
-        }
+        whole_fan(k, mem, term, corner, n, w, out);
         return;
     }
     f3 ps[MIKK_SPLIT_MAX], pt[MIKK_SPLIT_MAX];
+    uint8_t anyf[MIKK_SPLIT_MAX];
     for (size_t i = 0; i < n; i++) {
         size_t t = (size_t)mem[i];
-        f3 nn = fnrm(m, m->indices[3 * t + (size_t)corner_of(k, t, vert)]);
+        f3 nn = fnrm(m, m->indices[3 * t + corner[i]]);
         ps[i] = f3_tangential(k->fos[t], nn);
         pt[i] = f3_tangential(k->fot[t], nn);
+        anyf[i] = (k->flags[t] & TRI_ANY) != 0;
     }
-    /* scratch: member lists of the distinct subfans found so far, each
-     * preceded by its length; tangents alongside. */
-    size_t nsub = 0, used = 0;
-    size_t sub_off[MIKK_SPLIT_MAX];
-    d3 sub_tan[MIKK_SPLIT_MAX];
     /* cos(180 deg) rounded to float, the reference's default threshold: -1,
      * so only a float cosine that rounds to -1 splits */
     const float pi_f = 3.14159265358979323846f;
     const float opposite = (float)cos((180.0f * pi_f) / 180.0f);
+    /* The usual case: no pair points opposite, so every member's subfan is
+     * the whole fan (the test is symmetric: a float dot product does not
+     * depend on the order of its operands). */
+    int split = 0;
+    for (size_t i = 0; i < n && !split; i++) {
+        if (anyf[i])
+            continue;
+        for (size_t j = i + 1; j < n && !split; j++)
+            split = !anyf[j] &&
+                    !(f3_dot(ps[i], ps[j]) > opposite && f3_dot(pt[i], pt[j]) > opposite);
+    }
+    if (!split) {
+        whole_fan(k, mem, term, corner, n, w, out);
+        return;
+    }
+    if (!wk->scratch && !(wk->scratch = malloc(MIKK_SCRATCH * sizeof *wk->scratch))) {
+        wk->oom = 1;
+        return;
+    }
+    int32_t *scratch = wk->scratch;
+    size_t nsub = 0, used = 0;
+    size_t sub_off[MIKK_SPLIT_MAX];
+    d3 sub_tan[MIKK_SPLIT_MAX];
     for (size_t i = 0; i < n; i++) {
         size_t t = (size_t)mem[i];
         int32_t *list = scratch + used + 1;
@@ -467,7 +582,7 @@ static void fan_output(const mikk *k, size_t g, float *out, int32_t *scratch)
             int any = ((k->flags[t] | k->flags[u]) & TRI_ANY) != 0;
             if (any || i == j ||
                 (f3_dot(ps[i], ps[j]) > opposite && f3_dot(pt[i], pt[j]) > opposite))
-                list[cnt++] = (int32_t)u;
+                list[cnt++] = (int32_t)j;
         }
         size_t s;
         for (s = 0; s < nsub; s++) {
@@ -478,33 +593,155 @@ static void fan_output(const mikk *k, size_t g, float *out, int32_t *scratch)
         if (s == nsub) {
             scratch[used] = (int32_t)cnt;
             sub_off[nsub] = used;
-            sub_tan[nsub] = fan_tangent(k, list, cnt, vert);
+            sub_tan[nsub] = fan_tangent(k, mem, term, list, cnt);
             used += cnt + 1;
             nsub++;
         }
-        size_t c = 3 * t + (size_t)corner_of(k, t, vert);
-        out[4 * c] = (float)sub_tan[s].x, out[4 * c + 1] = (float)sub_tan[s].y;
-        out[4 * c + 2] = (float)sub_tan[s].z, out[4 * c + 3] = w;
+        put_corner(out, 3 * t + corner[i], sub_tan[s], w);
     }
 }
 
-/* The fans in parallel: every corner belongs to one fan (its group), so each
- * fan writes only its own corners and the result does not depend on the
- * threads; each worker has its own scratch. */
-#define MIKK_SCRATCH ((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1))
-typedef struct fan_job {
-    const mikk *k;
-    float *out;
-    int32_t *scratch; /* MIKK_SCRATCH per worker */
-} fan_job;
-static void fan_chunk(void *ctx, size_t b, size_t e, int worker)
+/* One fan from its seed corner: grown, then its tangents written. */
+static void seed_fan(mikk *k, mikk_worker *w, size_t t, int c)
 {
-    const fan_job *j = ctx;
-    for (size_t g = b; g < e; g++)
-        fan_output(j->k, g, j->out, j->scratch + (size_t)worker * MIKK_SCRATCH);
+    uint32_t vert = wv(k, 3 * t + (size_t)c);
+    int pres = (k->flags[t] & TRI_PRESERVING) != 0;
+    size_t n = grow_fan(k, w, vert, pres, t, c);
+    fan_output(k, w, w->members, n, pres, k->out, w->term, w->corner);
+    w->fans++;
+}
+
+/* The fans of the vertices [b, e) that no zero-UV-area triangle touches, in
+ * parallel: such a vertex's fans read and write only its own corners and the
+ * flags of triangles that keep them, so the result does not depend on the
+ * threads. Then every corner of [b, e) that no fan reached: the default frame,
+ * or for a degenerate triangle's corner the frame of the first non-degenerate
+ * corner at the same welded vertex. */
+static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
+{
+    mikk *k = ctx;
+    mikk_worker *w = &k->w[worker];
+    for (size_t v = b; v < e; v++) {
+        const uint32_t *cs = k->v_corner + k->v_start[v];
+        size_t nc = k->v_start[v + 1] - k->v_start[v];
+        if (!k->touched || !k->touched[v])
+            for (size_t i = 0; i < nc; i++) {
+                size_t t = cs[i] / 3;
+                if (!(k->flags[t] & (TRI_DEGENERATE | TRI_ANY)) && !k->grouped[cs[i]])
+                    seed_fan(k, w, t, (int)(cs[i] % 3));
+            }
+        int64_t first = -1;
+        for (size_t i = 0; i < nc; i++) {
+            if (k->flags[cs[i] / 3] & TRI_DEGENERATE)
+                continue;
+            if (first < 0)
+                first = cs[i];
+            if (!k->grouped[cs[i]]) {
+                put_corner(k->out, cs[i], (d3){1, 0, 0}, -1.0f);
+                w->unreached++;
+            }
+        }
+        for (size_t i = 0; i < nc; i++) {
+            if (!(k->flags[cs[i] / 3] & TRI_DEGENERATE))
+                continue;
+            if (first >= 0)
+                memcpy(k->out + 4 * (size_t)cs[i], k->out + 4 * (size_t)first, 4 * sizeof(float));
+            else
+                put_corner(k->out, cs[i], (d3){1, 0, 0}, -1.0f);
+        }
+    }
+}
+
+/* The corners of each welded vertex, in corner order: a counting sort cut
+ * into parts (consecutive corner ranges) that count and place their corners
+ * in parallel; part p's corners of a vertex go after those of the parts
+ * before it, so the order is that of one pass. */
+#define MIKK_CSR_PARTS 4
+typedef struct csr_job {
+    mikk *k;
+    uint32_t *cnt; /* per part, per vertex: count, then next slot */
+    size_t per;    /* corners per part */
+    int place;     /* 0: count, 1: place */
+} csr_job;
+
+static void csr_part(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    const csr_job *j = ctx;
+    mikk *k = j->k;
+    size_t nc = 3 * k->T;
+    for (size_t p = b; p < e; p++) {
+        uint32_t *cnt = j->cnt + p * k->nv;
+        size_t c1 = (p + 1) * j->per < nc ? (p + 1) * j->per : nc;
+        for (size_t c = p * j->per; c < c1; c++) {
+            if (j->place)
+                k->v_corner[cnt[k->wc[c]]++] = (uint32_t)c;
+            else
+                cnt[k->wc[c]]++;
+        }
+    }
+}
+
+static int corners_by_vertex(mikk *k)
+{
+    size_t nv = k->nv, nc = 3 * k->T;
+    size_t parts = k->threads < MIKK_CSR_PARTS ? (size_t)k->threads : MIKK_CSR_PARTS;
+    csr_job j = {k, calloc(parts * nv, sizeof *j.cnt), (nc + parts - 1) / parts, 0};
+    if (!j.cnt)
+        return -1;
+    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
+    uint32_t at = 0;
+    for (size_t v = 0; v < nv; v++) {
+        k->v_start[v] = at;
+        for (size_t p = 0; p < parts; p++) {
+            uint32_t n = j.cnt[p * nv + v];
+            j.cnt[p * nv + v] = at;
+            at += n;
+        }
+    }
+    k->v_start[nv] = at;
+    j.place = 1;
+    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
+    free(j.cnt);
+    return 0;
+}
+
+static void free_workers(mikk *k)
+{
+    for (int i = 0; k->w && i < k->threads; i++) {
+        free(k->w[i].stack);
+        free(k->w[i].members);
+        free(k->w[i].scratch);
+        free(k->w[i].edges);
+        free(k->w[i].term);
+        free(k->w[i].corner);
+    }
+    free(k->w);
+}
+
+/* Per-worker buffers for a largest valence of `maxv` corners. */
+static int alloc_workers(mikk *k, size_t maxv)
+{
+    for (int i = 0; i < k->threads; i++) {
+        mikk_worker *w = &k->w[i];
+        w->stack = malloc((2 * maxv + 4) * sizeof *w->stack);
+        w->members = malloc((maxv + 1) * sizeof *w->members);
+        w->edges = malloc((2 * maxv + 2) * sizeof *w->edges);
+        w->term = malloc((maxv + 1) * sizeof *w->term);
+        w->corner = malloc(maxv + 1);
+        if (!w->stack || !w->members || !w->edges || !w->term || !w->corner)
+            return -1;
+    }
+    return 0;
 }
 
 bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats)
+{
+    return bgt_mikk_tangents_threads(m, out, stats, 0);
+}
+
+bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats,
+                                    int threads)
 {
     bgt_mikk_stats st;
     memset(&st, 0, sizeof st);
@@ -528,84 +765,88 @@ bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *
     memset(&k, 0, sizeof k);
     k.m = m;
     k.T = T;
+    k.out = out;
+    k.threads = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
     size_t nv = m->vertex_count;
-    k.weld = malloc(nv * sizeof *k.weld);
+    k.nv = nv;
+    uint8_t *used = calloc(nv, 1);
+    k.weld = big_alloc(nv * sizeof *k.weld);
+    k.wc = big_alloc(3 * T * sizeof *k.wc);
     k.flags = malloc(T);
-    k.os = malloc(T * sizeof *k.os);
-    k.ot = malloc(T * sizeof *k.ot);
-    k.fos = malloc(T * sizeof *k.fos);
-    k.fot = malloc(T * sizeof *k.fot);
-    k.nb = malloc(3 * T * sizeof *k.nb);
-    k.grp = malloc(3 * T * sizeof *k.grp);
-    k.g_vert = malloc(3 * T * sizeof *k.g_vert);
-    k.g_pres = malloc(3 * T);
-    k.g_start = malloc(3 * T * sizeof *k.g_start);
-    k.g_count = malloc(3 * T * sizeof *k.g_count);
-    k.members = malloc(3 * T * sizeof *k.members);
-    k.stack = malloc((2 * T + 4) * sizeof *k.stack);
-    const int threads = bgt_threads_default();
-    int32_t *scratch = malloc((size_t)threads * MIKK_SCRATCH * sizeof *scratch);
-    int32_t *first = NULL;
+    k.os = big_alloc(T * sizeof *k.os);
+    k.fos = big_alloc(T * sizeof *k.fos);
+    k.fot = big_alloc(T * sizeof *k.fot);
+    k.nb = big_alloc(3 * T * sizeof *k.nb);
+    k.grouped = big_alloc(3 * T);
+    k.v_start = malloc((nv + 1) * sizeof *k.v_start);
+    k.v_corner = big_alloc(3 * T * sizeof *k.v_corner);
     bg_status rc = BG_ERR_OUT_OF_MEMORY;
-    if (!k.weld || !k.flags || !k.os || !k.ot || !k.fos || !k.fot || !k.nb || !k.grp || !k.g_vert || !k.g_pres ||
-        !k.g_start || !k.g_count || !k.members || !k.stack || !scratch)
+    if (!used || !k.weld || !k.wc || !k.flags || !k.os || !k.fos || !k.fot || !k.nb ||
+        !k.grouped || !k.v_start || !k.v_corner)
         goto done;
-    st.welded_vertices = weld_vertices(&k);
-    if (st.welded_vertices == (size_t)-1)
-        goto done;
-    classify(&k, &st);
-    if (build_neighbours(&k) != 0)
-        goto done;
-    build_fans(&k);
-    st.fans = k.groups;
-
-    /* 6. default frame for corners no fan reaches, then the fans */
-    for (size_t c = 0; c < 3 * T; c++) {
-        out[4 * c] = 1.0f, out[4 * c + 1] = 0.0f, out[4 * c + 2] = 0.0f, out[4 * c + 3] = -1.0f;
-    }
-    fan_job fj = {&k, out, scratch};
-    bgt_parallel_for(k.groups, 4096, threads, fan_chunk, &fj);
     for (size_t c = 0; c < 3 * T; c++)
-        if (!(k.flags[c / 3] & TRI_DEGENERATE) && k.grp[c] < 0)
-            st.unreached++;
-
-    /* 2. degenerate triangles inherit from the first non-degenerate corner
-     * at the same welded vertex */
-    if (st.degenerate) {
-        first = malloc(nv * sizeof *first);
-        if (!first)
+        used[m->indices[c]] = 1;
+    st.welded_vertices = weld_vertices(&k, used);
+    k.w = calloc((size_t)k.threads, sizeof *k.w);
+    if (st.welded_vertices == (size_t)-1 || !k.w)
+        goto done;
+    bgt_parallel_for(T, 8192, k.threads, classify_chunk, &k);
+    if (corners_by_vertex(&k) != 0)
+        goto done;
+    size_t maxv = 0;
+    for (size_t v = 0; v < nv; v++)
+        if (k.v_start[v + 1] - k.v_start[v] > maxv)
+            maxv = k.v_start[v + 1] - k.v_start[v];
+    if (alloc_workers(&k, maxv) != 0)
+        goto done;
+    bgt_parallel_for(nv, 4096, k.threads, neighbours_chunk, &k);
+    size_t zero = 0;
+    for (int i = 0; i < k.threads; i++)
+        zero += k.w[i].zero_uv_area;
+    if (zero) {
+        /* Zero-UV-area triangles take the orientation of the first fan that
+         * reaches them, in the order of the fans' seeds: the fans of the
+         * vertices they touch are grown one after the other in that order. */
+        k.touched = calloc(nv, 1);
+        if (!k.touched)
             goto done;
-        for (size_t i = 0; i < nv; i++)
-            first[i] = -1;
-        for (size_t c = 3 * T; c-- > 0;)
-            if (!(k.flags[c / 3] & TRI_DEGENERATE))
-                first[wv(&k, c)] = (int32_t)c;
-        for (size_t c = 0; c < 3 * T; c++) {
-            if (!(k.flags[c / 3] & TRI_DEGENERATE))
+        for (size_t t = 0; t < T; t++)
+            if (k.flags[t] & TRI_ANY)
+                for (int c = 0; c < 3; c++)
+                    k.touched[wv(&k, 3 * t + (size_t)c)] = 1;
+        for (size_t t = 0; t < T; t++) {
+            if (k.flags[t] & (TRI_DEGENERATE | TRI_ANY))
                 continue;
-            int32_t s = first[wv(&k, c)];
-            if (s >= 0)
-                memcpy(out + 4 * c, out + 4 * (size_t)s, 4 * sizeof *out);
+            for (int c = 0; c < 3; c++)
+                if (k.touched[wv(&k, 3 * t + (size_t)c)] && !k.grouped[3 * t + (size_t)c])
+                    seed_fan(&k, &k.w[0], t, c);
         }
+    }
+    bgt_parallel_for(nv, 4096, k.threads, fans_chunk, &k);
+    for (int i = 0; i < k.threads; i++)
+        if (k.w[i].oom)
+            goto done;
+    for (int i = 0; i < k.threads; i++) {
+        st.degenerate += k.w[i].degenerate;
+        st.zero_uv_area += k.w[i].zero_uv_area;
+        st.fans += k.w[i].fans;
+        st.unreached += k.w[i].unreached;
     }
     rc = BG_OK;
 done:
+    free(used);
     free(k.weld);
+    free(k.wc);
     free(k.flags);
     free(k.os);
-    free(k.ot);
     free(k.fos);
     free(k.fot);
     free(k.nb);
-    free(k.grp);
-    free(k.g_vert);
-    free(k.g_pres);
-    free(k.g_start);
-    free(k.g_count);
-    free(k.members);
-    free(k.stack);
-    free(scratch);
-    free(first);
+    free(k.grouped);
+    free(k.v_start);
+    free(k.v_corner);
+    free(k.touched);
+    free_workers(&k);
     if (stats)
         *stats = st;
     return rc;

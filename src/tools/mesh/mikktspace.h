@@ -74,6 +74,11 @@ typedef struct bgt_mikk_stats {
  *  (an index out of range, more than 2^31 - 1 triangles) or
  *  BG_ERR_OUT_OF_MEMORY. */
 bg_status bgt_mikk_tangents(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats);
+/** The same on `threads` worker threads (0: one per online core, which is
+ *  what bgt_mikk_tangents uses; at most 256). The result does not depend on
+ *  the count. */
+bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk_stats *stats,
+                                    int threads);
 
 /** The frame a mikkTSpace renderer builds inside a triangle: the corner
  *  tangents, signs and normals interpolated with the barycentric weights w
