@@ -23,6 +23,7 @@
  * gives back n' exactly (up to quantization). */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 #include "bumpgrad/framework.h"
@@ -451,6 +452,24 @@ double mesh_bake_tile_bytes(int width, int height)
     return (double)width * (double)height * 43.0;
 }
 
+/* The UV bounding box of triangle t; false when the triangle is not usable
+ * or has no UV image (it is not baked). */
+static bool uv_box(const bg_mesh *m, size_t t, double *u_lo, double *u_hi, double *v_lo,
+                   double *v_hi)
+{
+    double X[3], Y[3], area;
+    if (!mesh_triangle_usable(m, t) || !uv_image(m, t, 0.0, 0.0, 1, 1, X, Y, &area))
+        return false;
+    const uint32_t *ix = m->indices + 3 * t;
+    *u_lo = *u_hi = m->u[ix[0]];
+    *v_lo = *v_hi = m->v[ix[0]];
+    for (int k = 1; k < 3; k++) {
+        *u_lo = fmin(*u_lo, m->u[ix[k]]), *u_hi = fmax(*u_hi, m->u[ix[k]]);
+        *v_lo = fmin(*v_lo, m->v[ix[k]]), *v_hi = fmax(*v_hi, m->v[ix[k]]);
+    }
+    return true;
+}
+
 /* The tiles (UDIM numbers, ascending) that the UV bounding box of a bakeable
  * triangle touches: u tiles 0..9, v tiles 0..MESH_UDIM_V_TILES-1, a box edge
  * on a tile boundary does not touch the next tile. Returns the count (also in
@@ -463,15 +482,9 @@ static size_t udim_tiles(const bg_mesh *m, int *tiles, size_t *wanted)
     if (!mark)
         return (size_t)-2;
     for (size_t t = 0; t < m->triangle_count; t++) {
-        double X[3], Y[3], area;
-        if (!mesh_triangle_usable(m, t) || !uv_image(m, t, 0.0, 0.0, 1, 1, X, Y, &area))
+        double u_lo, u_hi, v_lo, v_hi;
+        if (!uv_box(m, t, &u_lo, &u_hi, &v_lo, &v_hi))
             continue;
-        const uint32_t *ix = m->indices + 3 * t;
-        double u_lo = m->u[ix[0]], u_hi = u_lo, v_lo = m->v[ix[0]], v_hi = v_lo;
-        for (int k = 1; k < 3; k++) {
-            u_lo = fmin(u_lo, m->u[ix[k]]), u_hi = fmax(u_hi, m->u[ix[k]]);
-            v_lo = fmin(v_lo, m->v[ix[k]]), v_hi = fmax(v_hi, m->v[ix[k]]);
-        }
         double a0 = fmax(floor(u_lo), 0.0), a1 = fmin(ceil(u_hi) - 1.0, U - 1.0);
         double b0 = fmax(floor(v_lo), 0.0), b1 = fmin(ceil(v_hi) - 1.0, V - 1.0);
         for (double b = b0; b <= b1; b += 1.0)
@@ -516,15 +529,9 @@ static bg_status outside_unit_square(const bg_mesh *m, mesh_bake_stats *stats, b
         stats->outside_tile_count += wanted - MESH_UDIM_MAX_TILES;
     free(all);
     for (size_t t = 0; t < m->triangle_count; t++) {
-        double X[3], Y[3], area;
-        if (!mesh_triangle_usable(m, t) || !uv_image(m, t, 0.0, 0.0, 1, 1, X, Y, &area))
+        double u_lo, u_hi, v_lo, v_hi;
+        if (!uv_box(m, t, &u_lo, &u_hi, &v_lo, &v_hi))
             continue;
-        const uint32_t *ix = m->indices + 3 * t;
-        double u_lo = m->u[ix[0]], u_hi = u_lo, v_lo = m->v[ix[0]], v_hi = v_lo;
-        for (int k = 1; k < 3; k++) {
-            u_lo = fmin(u_lo, m->u[ix[k]]), u_hi = fmax(u_hi, m->u[ix[k]]);
-            v_lo = fmin(v_lo, m->v[ix[k]]), v_hi = fmax(v_hi, m->v[ix[k]]);
-        }
         stats->outside_triangles += u_hi <= 0.0 || u_lo >= 1.0 || v_hi <= 0.0 || v_lo >= 1.0;
     }
     return BG_OK;
