@@ -46,6 +46,12 @@ typedef struct mesh_gltf_in {
     const mesh_gltf_material *materials;
     size_t image_count;
     const mesh_gltf_image *images;
+    /* Meshes: one glTF mesh per part (bg_mesh_part: the source's nodes), under
+     * a root node with the identity transform named after the part's node
+     * (else its mesh, else "mesh<i>"). part_count 0, or parts that do not
+     * cover the triangles in order: one mesh, one node "mesh0". */
+    size_t part_count;
+    const bg_mesh_part *parts;
 } mesh_gltf_in;
 
 /* ---- the materials and images of `bumpgrad mesh`'s glTF (mesh_gltf_scene.c) ---- */

@@ -708,7 +708,8 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
                       .tri_material = tri_mat ? tri_mat : m->material_count > 1 ? m->material : NULL,
                       .corner_uv = w->gltf_uv,
                       .material_count = sc.material_count, .materials = sc.materials,
-                      .image_count = sc.image_count, .images = sc.images};
+                      .image_count = sc.image_count, .images = sc.images,
+                      .part_count = m->part_count, .parts = m->parts};
     st = mesh_gltf_write(w->devout ? w->devout : w->of.fp, binary, &g, e);
     mesh_gltf_scene_free(&sc);
     free(tri_mat);
