@@ -333,6 +333,20 @@ def main():
                   ".%s: the mirrored quad's winding agrees with its NORMAL" % ext)
             bad = structure_problems(out)
             check(not bad, ".%s: passes the structural check %s" % (ext, bad))
+
+        # 4. a group name that is not UTF-8 (Latin-1) becomes U+FFFD: valid JSON
+        obj = os.path.join(tmp, "latin1.obj")
+        with open(obj, "wb") as f:
+            f.write(b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                    b"g Kopf\xfc\nf 1/1 2/2 3/3\ng Fu\xc3\x9f\nf 1/1 3/3 4/4\n")
+        out = os.path.join(tmp, "latin1.glb")
+        rc, _ = mesh([obj, out, "--bake-normal-map", os.path.join(tmp, "l.png"), "--size", "16"])
+        try:
+            names = [n.get("name") for n in Gltf(out).json["nodes"]] if rc == 0 else None
+        except (UnicodeDecodeError, ValueError) as err:
+            names = str(err)
+        check(names == ["Kopf\ufffd", "Fu\u00df"],
+              "a Latin-1 group name is written as U+FFFD, a UTF-8 one as it is (%s)" % names)
     return finish("mesh_gltf_nodes")
 
 

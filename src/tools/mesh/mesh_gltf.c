@@ -135,6 +135,7 @@ static int write_base64(FILE *fp, const unsigned char *d, size_t n)
  * part of all triangles when d has no valid parts). */
 typedef struct gltf_parts {
     size_t n;
+    int named;       /* the parts are d->parts (else one part, no names) */
     size_t *first;   /* n + 1 */
     size_t *vfirst;  /* n + 1: part p's glTF vertices are [vfirst[p], vfirst[p + 1]) */
     double *mn, *mx; /* 3 per part: the bounds of its finite positions */
@@ -142,15 +143,16 @@ typedef struct gltf_parts {
 
 static int parts_init(const mesh_gltf_in *d, size_t T, gltf_parts *ps)
 {
-    size_t n = d->part_count && d->parts ? d->part_count : 1, end = 0;
-    for (size_t p = 0; d->part_count && d->parts && p < n; p++) {
+    size_t end = 0, p = 0;
+    for (; d->parts && p < d->part_count; p++) {
         if (d->parts[p].first_triangle != end || d->parts[p].triangle_count == 0 ||
             d->parts[p].triangle_count > T - end)
             break;
         end += d->parts[p].triangle_count;
     }
-    if (end != T)
-        n = 1; /* no parts, or not a partition: one mesh */
+    /* no parts, or not a partition of the triangles: one mesh */
+    ps->named = d->parts && d->part_count && p == d->part_count && end == T;
+    size_t n = ps->named ? d->part_count : 1;
     ps->n = n;
     ps->first = malloc((n + 1) * sizeof *ps->first);
     ps->vfirst = calloc(n + 1, sizeof *ps->vfirst);
@@ -158,8 +160,8 @@ static int parts_init(const mesh_gltf_in *d, size_t T, gltf_parts *ps)
     ps->mx = malloc(3 * n * sizeof *ps->mx);
     if (!ps->first || !ps->vfirst || !ps->mn || !ps->mx)
         return -1;
-    for (size_t p = 0; p < n; p++) {
-        ps->first[p] = n > 1 ? d->parts[p].first_triangle : 0;
+    for (p = 0; p < n; p++) {
+        ps->first[p] = ps->named ? d->parts[p].first_triangle : 0;
         for (int a = 0; a < 3; a++)
             ps->mn[3 * p + (size_t)a] = INFINITY, ps->mx[3 * p + (size_t)a] = -INFINITY;
     }
@@ -322,18 +324,41 @@ static void fill_buffer(const mesh_gltf_in *d, const uint32_t *newidx, const uin
             memcpy(bin + b->off_img[i], d->images[i].bytes, d->images[i].len);
 }
 
+/* The length of the well-formed UTF-8 sequence at s (1 to 4), or 0. */
+static int utf8_len(const unsigned char *s)
+{
+    if (s[0] < 0x80)
+        return 1;
+    int n = s[0] >= 0xC2 && s[0] <= 0xDF ? 2 : s[0] >= 0xE0 && s[0] <= 0xEF ? 3
+          : s[0] >= 0xF0 && s[0] <= 0xF4 ? 4 : 0;
+    for (int i = 1; i < n; i++)
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+    /* no overlong forms, surrogates or code points above U+10FFFF */
+    if ((s[0] == 0xE0 && s[1] < 0xA0) || (s[0] == 0xED && s[1] > 0x9F) ||
+        (s[0] == 0xF0 && s[1] < 0x90) || (s[0] == 0xF4 && s[1] > 0x8F))
+        return 0;
+    return n;
+}
+
 /* A JSON string's contents: quotes, backslashes and control characters
- * escaped; other bytes (UTF-8) as they are. */
+ * escaped; UTF-8 as it is, and a byte that is not part of well-formed UTF-8
+ * (a Latin-1 name, say) as U+FFFD, so the JSON stays valid. */
 static void sb_json_str(sbuf *js, const char *s)
 {
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
+    const unsigned char *u = (const unsigned char *)s;
+    while (*u) {
+        unsigned char c = *u;
+        int n = utf8_len(u);
         if (c == '"' || c == '\\')
             sb_add(js, "\\%c", c);
         else if (c < 0x20)
             sb_add(js, "\\u%04x", c);
+        else if (n == 0)
+            sb_add(js, "\\ufffd");
         else
-            sb_add(js, "%c", c);
+            sb_add(js, "%.*s", n, (const char *)u);
+        u += n ? n : 1;
     }
 }
 
@@ -391,7 +416,7 @@ static void gltf_materials(sbuf *js, const mesh_gltf_in *d, const gltf_buf *b, i
 /* Part p's node name: the source node's, else its mesh's, else "mesh<p>". */
 static void sb_node_name(sbuf *js, const mesh_gltf_in *d, const gltf_parts *ps, size_t p)
 {
-    const bg_mesh_part *pt = ps->n == d->part_count && d->parts ? &d->parts[p] : NULL;
+    const bg_mesh_part *pt = ps->named ? &d->parts[p] : NULL;
     if (pt && pt->name && *pt->name)
         sb_json_str(js, pt->name);
     else if (pt && pt->mesh_name && *pt->mesh_name)
@@ -406,7 +431,7 @@ static void gltf_json(sbuf *js, const mesh_gltf_in *d, const gltf_parts *ps, con
 {
     int has_uv = b->has_uv, has_tan = b->has_tan;
     const size_t P = ps->n;
-    const int named = P == d->part_count && d->parts;
+    const int named = ps->named;
     const size_t NV = b->nv;
     sb_add(js, "{\"asset\":{\"version\":\"2.0\",\"generator\":\"%s\"},", d->generator);
     /* the hierarchy flattened: one root node per part, the identity transform */
