@@ -8,7 +8,8 @@ the vertices (the nodes have none). Checked against the source itself, read
 with our own reader (gltf_read.py: json + numpy): glTF2 ClearCoatTest (24
 nodes in a hierarchy, instanced meshes), spider.obj (19 groups, read from the
 OBJ text) and a glTF of our own (a mirrored instance, a mesh of two
-primitives, a name that needs JSON escaping). Every file written also passes
+primitives, a name that needs JSON escaping); a name that is not UTF-8; and
+the cap of 65536 parts (one more: one mesh, said in the summary). Every file written also passes
 a structural check of the kind a strict importer (Blender's) makes: indices,
 accessor and buffer view bounds, POSITION min/max, unit NORMAL and TANGENT.
 
@@ -231,6 +232,26 @@ def own_gltf(path):
         json.dump(doc, f)
 
 
+def many_nodes(path, n):
+    """A glTF2 of n nodes n0, n1, ... each using one triangle, side by side."""
+    blob = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32).tobytes() + \
+        np.array([0, 1, 2], np.uint32).tobytes()
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": list(range(n))}],
+           "nodes": [{"name": "n%d" % i, "mesh": 0, "translation": [i * 1e-3, 0, 0]}
+                     for i in range(n)],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [0, 0, 0], "max": [1, 1, 0]},
+                         {"bufferView": 1, "componentType": 5125, "count": 3,
+                          "type": "SCALAR"}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                           {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+           "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,"
+                        + base64.b64encode(blob).decode()}]}
+    with open(path, "w") as f:
+        json.dump(doc, f)
+
+
 def obj_groups(path):
     """The groups of an OBJ file in order with their triangle counts (a face
     of n corners is n - 2 triangles; lines are not triangles)."""
@@ -347,6 +368,22 @@ def main():
             names = str(err)
         check(names == ["Kopf\ufffd", "Fu\u00df"],
               "a Latin-1 group name is written as U+FFFD, a UTF-8 one as it is (%s)" % names)
+
+        # 5. the cap: 65536 nodes with triangles are kept, one more and the
+        #    glTF is one mesh, which the summary says
+        for n in (65536, 65537):
+            src = os.path.join(tmp, "many%d.gltf" % n)
+            many_nodes(src, n)
+            out = os.path.join(tmp, "many%d.glb" % n)
+            rc, text = mesh([src, out])
+            nodes = Gltf(out).json["nodes"] if rc == 0 else []
+            if n == 65536:
+                check(len(nodes) == n and nodes[-1]["name"] == "n65535" and
+                      "65536 meshes, " in text, "%d nodes: %d meshes and nodes" % (n, len(nodes)))
+            else:
+                check(len(nodes) == 1 and "1 mesh (the scene has more than 65536 nodes with "
+                      "triangles: merged into one)" in text,
+                      "%d nodes: one mesh, and the summary says why" % n)
     return finish("mesh_gltf_nodes")
 
 

@@ -699,6 +699,7 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
     r->gltf_textures = sc.textures_kept;
     r->gltf_textures_dropped = sc.textures_dropped;
     r->gltf_meshes = m->part_count ? m->part_count : 1;
+    r->gltf_merged = !m->part_count;
     char gen[96];
     snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
     mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
