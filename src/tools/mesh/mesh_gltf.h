@@ -39,8 +39,9 @@ typedef struct mesh_gltf_in {
                                     * vertex is split where its corners' UVs differ */
     const uint32_t *indices;
     const char *generator;         /* asset.generator, plain ASCII without quotes */
-    /* Materials: one primitive per material that a triangle uses (triangle
-     * order kept within it); material_count 0: one primitive, no material. */
+    /* Materials: in each mesh (part, below), one primitive per run of
+     * consecutive triangles of one material (triangle order kept);
+     * material_count 0: one primitive per mesh, no material. */
     const uint32_t *tri_material;  /* per triangle (< material_count), NULL: all 0 */
     size_t material_count;
     const mesh_gltf_material *materials;
