@@ -7,6 +7,7 @@
  * Every mesh of a file's scene is flattened into one indexed triangle list:
  * node transforms are applied (a mesh referenced by two nodes appears twice),
  * polygons are triangulated, points and lines are dropped (and counted).
+ * Which triangles came from which node is kept in bg_mesh.parts.
  * Attributes are kept per vertex as SoA arrays, the layout the batch calls of
  * noise.h and surfgrad.h take, so a caller feeds them without copying.
  */
@@ -38,6 +39,19 @@ typedef struct bg_mesh_material {
     int has_base_color;
 } bg_mesh_material;
 
+/** The triangles of one node of the file's scene (an aiNode that references
+ *  meshes, visited once per path from the root: an instanced node appears
+ *  once per instance): triangles [first_triangle, first_triangle +
+ *  triangle_count) of the flattened mesh, which use only vertices of their
+ *  own (vertices are never shared between parts, whatever the joining). */
+typedef struct bg_mesh_part {
+    size_t first_triangle, triangle_count; /**< triangle_count > 0 */
+    char *name;      /**< the node's name ("" when it has none), never NULL */
+    char *mesh_name; /**< the name of the node's meshes: their common name, or with
+                          several meshes "NAME-0", "NAME-1", ... (one glTF mesh split by
+                          primitive) NAME, else the first one's; "" when none */
+} bg_mesh_part;
+
 /** An indexed triangle mesh. All arrays are owned (free with bg_mesh_free). */
 typedef struct bg_mesh {
     size_t vertex_count;   /**< <= UINT32_MAX */
@@ -67,6 +81,11 @@ typedef struct bg_mesh {
     bg_mesh_material *materials;  /**< the scene's materials in assimp's order, or NULL */
     size_t embedded_textures;     /**< texture references to embedded images ("*N") that
                                        were skipped (left NULL in materials) */
+    /** The parts in triangle order, contiguous and covering every triangle,
+     *  or NULL (part_count 0) when the scene has more than BG_MESH_MAX_PARTS
+     *  of them (the flattened mesh is the same either way). */
+    size_t part_count;
+    bg_mesh_part *parts;
 } bg_mesh;
 
 /** The most materials a loaded mesh carries (a file with more is refused with
@@ -74,6 +93,10 @@ typedef struct bg_mesh {
  *  refused too). */
 #define BG_MESH_MAX_MATERIALS 65536
 #define BG_MESH_MAX_STRING 4096
+/** The most parts (node instances with triangles) kept in bg_mesh.parts; a
+ *  scene with more loads with no parts. Part names longer than
+ *  BG_MESH_MAX_STRING bytes are cut to it (at a UTF-8 character boundary). */
+#define BG_MESH_MAX_PARTS 65536
 
 /** Loading options (bit flags) for bg_mesh_load_ex. */
 typedef enum bg_mesh_flags {

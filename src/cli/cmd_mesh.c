@@ -73,6 +73,8 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
     if (r->output_format && (r->gltf_materials || r->gltf_bumped_normals || r->gltf_map)) {
         cli_json_object(&j, "gltf");
         cli_json_bool(&j, "bumped_normals", r->gltf_bumped_normals);
+        cli_json_int(&j, "meshes", (long long)r->gltf_meshes);
+        cli_json_bool(&j, "nodes_merged", r->gltf_merged);
         cli_json_int(&j, "materials", (long long)r->gltf_materials);
         cli_json_int(&j, "base_color_textures", (long long)r->gltf_textures);
         cli_json_int(&j, "base_color_textures_left_out", (long long)r->gltf_textures_dropped);
@@ -172,10 +174,18 @@ static void print_text(FILE *fp, const bgt_mesh_opts *o, int units, const bgt_me
     if (out_path)
         fprintf(fp, "wrote %s (%s)\n", out_path,
                 r->output_format);
+    char merged[96] = "";
+    if (r->gltf_merged)
+        snprintf(merged, sizeof merged,
+                 " (the scene has more than %d nodes with triangles: merged into one)",
+                 BG_MESH_MAX_PARTS);
     if (out_path && r->gltf_materials + r->gltf_bumped_normals + r->gltf_map)
-        fprintf(fp, "glTF: %s normals, %zu materials, %zu base colour textures kept (%zu left "
-                    "out: not PNG/JPEG or not found), normalTexture: %s\n",
-                r->gltf_bumped_normals ? "bumped" : "original", r->gltf_materials,
+        fprintf(fp, "glTF: %s normals, %zu mesh%s%s, %zu materials, %zu base colour textures "
+                    "kept (%zu left out: not PNG/JPEG or not found), normalTexture: %s\n",
+                r->gltf_bumped_normals ? "bumped" : "original", r->gltf_meshes,
+                r->gltf_meshes == 1 ? "" : "es",
+                merged,
+                r->gltf_materials,
                 r->gltf_textures, r->gltf_textures_dropped,
                 r->gltf_map == 2 ? "the map as an embedded 8-bit PNG"
                 : r->gltf_map    ? "the map"
@@ -373,8 +383,10 @@ CLI_SPEC(mesh,
         "compare_deg with --compare, then s t if IN has UVs; faces as triangles.\n"
         "A vertex without a valid normal has (0,0,0) in nx..nz and ox..oz.\n"
         "OUT.glb / OUT.gltf (glTF 2.0), to load in a viewer: POSITION, NORMAL,\n"
-        "TEXCOORD_0 and TANGENT (VEC4 with the sign) if IN has UVs, one primitive per\n"
-        "material of IN (its name and PNG/JPEG base colour texture kept). With a\n"
+        "TEXCOORD_0 and TANGENT (VEC4 with the sign) if IN has UVs; one mesh per node\n"
+        "of IN, under a node of its name (the hierarchy flattened: node transforms are\n"
+        "in the vertices), with one primitive per material of IN (its name and\n"
+        "PNG/JPEG base colour texture kept). With a\n"
         "tangent-space map baked, NORMAL holds the ORIGINAL normals, TANGENT the frame\n"
         "the map was encoded in, and every material's normalTexture is the map\n"
         "(embedded in .glb; referenced beside .gltf, or embedded as an 8-bit PNG when\n"

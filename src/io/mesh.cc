@@ -55,28 +55,33 @@ bool has_extension(const char *path, const char *ext)
     return *dot == 0 && *ext == 0;
 }
 
-// A mesh of the scene with the accumulated transform of the node that uses it.
+// A mesh of the scene with the accumulated transform of the node that uses
+// it, the node (null for a mesh no node refers to) and the visit of the node
+// (one per path from the root: the instances of one visit form one part).
 struct instance {
     const aiMesh *mesh;
     aiMatrix4x4 transform;
     bool identity;
+    const aiNode *node;
+    size_t visit;
 };
 
 void collect(const aiScene *scene, const aiNode *node, const aiMatrix4x4 &parent,
-             std::vector<instance> &out, int depth)
+             std::vector<instance> &out, int depth, size_t &visits)
 {
     // A malformed file can make a node its own descendant (glTF RecursiveNodes);
     // real scene graphs are nowhere near this deep.
     if (!node || depth > 256)
         return;
     aiMatrix4x4 m = parent * node->mTransformation;
+    const size_t visit = visits++;
     for (unsigned i = 0; i < node->mNumMeshes; ++i) {
         unsigned k = node->mMeshes[i];
         if (k < scene->mNumMeshes && scene->mMeshes[k])
-            out.push_back({scene->mMeshes[k], m, m.IsIdentity()});
+            out.push_back({scene->mMeshes[k], m, m.IsIdentity(), node, visit});
     }
     for (unsigned i = 0; i < node->mNumChildren; ++i)
-        collect(scene, node->mChildren[i], m, out, depth + 1);
+        collect(scene, node->mChildren[i], m, out, depth + 1, visits);
 }
 
 // v / |v|; v unchanged when its length is 0 or not finite (a degenerate or
@@ -119,6 +124,81 @@ char *dup_string(const char *s, size_t n)
         d[n] = 0;
     }
     return d;
+}
+
+// s cut to at most BG_MESH_MAX_STRING bytes, at a UTF-8 character boundary.
+std::string capped_name(const char *s)
+{
+    std::string n(s ? s : "");
+    if (n.size() > BG_MESH_MAX_STRING) {
+        size_t k = BG_MESH_MAX_STRING;
+        while (k > 0 && (static_cast<unsigned char>(n[k]) & 0xC0) == 0x80)
+            --k;
+        n.resize(k);
+    }
+    return n;
+}
+
+// The name of the meshes m[0, n) of one node: their common name; names
+// "X-0", "X-1", ... (assimp's glTF importer names the primitives of mesh X
+// so) give X; else the first name.
+std::string meshes_name(const std::vector<std::string> &m)
+{
+    if (m.empty())
+        return std::string();
+    if (std::all_of(m.begin(), m.end(), [&](const std::string &x) { return x == m[0]; }))
+        return m[0];
+    const size_t dash = m[0].rfind('-');
+    if (dash == std::string::npos)
+        return m[0];
+    const std::string stem = m[0].substr(0, dash + 1); // "X-"
+    const bool split = std::all_of(m.begin(), m.end(), [&](const std::string &x) {
+        return x.size() > stem.size() && x.compare(0, stem.size(), stem) == 0 &&
+               x.find_first_not_of("0123456789", stem.size()) == std::string::npos;
+    });
+    return split ? m[0].substr(0, dash) : m[0];
+}
+
+// The parts of the flattened mesh (bg_mesh_part): consecutive instances of
+// one node visit, those without triangles left out; none over the cap.
+bg_status make_parts(const std::vector<instance> &inst, bg_mesh &m)
+{
+    struct pending {
+        size_t first, count, visit;
+        const aiNode *node;
+        std::vector<std::string> meshes;
+    };
+    std::vector<pending> parts;
+    size_t t = 0;
+    for (const instance &in : inst) {
+        size_t nt = 0;
+        for (unsigned f = 0; f < in.mesh->mNumFaces; ++f)
+            nt += in.mesh->mFaces[f].mNumIndices == 3;
+        if (nt == 0)
+            continue;
+        if (parts.empty() || parts.back().visit != in.visit)
+            parts.push_back({t, 0, in.visit, in.node, {}});
+        parts.back().count += nt;
+        parts.back().meshes.push_back(in.mesh->mName.C_Str());
+        t += nt;
+    }
+    if (parts.size() > BG_MESH_MAX_PARTS)
+        return BG_OK;
+    m.parts = alloc_array<bg_mesh_part>(parts.size());
+    if (!m.parts)
+        return BG_ERR_OUT_OF_MEMORY;
+    m.part_count = parts.size();
+    for (size_t k = 0; k < parts.size(); ++k) {
+        bg_mesh_part &p = m.parts[k];
+        p.first_triangle = parts[k].first;
+        p.triangle_count = parts[k].count;
+        const std::string name = capped_name(parts[k].node ? parts[k].node->mName.C_Str() : "");
+        const std::string mesh = capped_name(meshes_name(parts[k].meshes).c_str());
+        if (!(p.name = dup_string(name.data(), name.size())) ||
+            !(p.mesh_name = dup_string(mesh.data(), mesh.size())))
+            return BG_ERR_OUT_OF_MEMORY;
+    }
+    return BG_OK;
 }
 
 // The four strings of a material, in the order the import child sends them.
@@ -479,12 +559,13 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
 
     std::vector<instance> inst;
     aiMatrix4x4 identity;
-    collect(scene, scene->mRootNode, identity, inst, 0);
+    size_t visits = 0;
+    collect(scene, scene->mRootNode, identity, inst, 0, visits);
     if (inst.empty()) {
         // Meshes no node refers to: take them as they are rather than lose them.
         for (unsigned k = 0; k < scene->mNumMeshes; ++k)
             if (scene->mMeshes[k])
-                inst.push_back({scene->mMeshes[k], identity, true});
+                inst.push_back({scene->mMeshes[k], identity, true, nullptr, visits++});
     }
     const mesh_shape s = shape_of(inst, drop_normals);
     if (s.nt == 0) {
@@ -516,10 +597,12 @@ bg_status import_scene(const char *path, unsigned flags, bg_mesh *out, char *err
         base += in.mesh->mNumVertices;
     }
     bg_status st = read_materials(scene, path, m, err, errlen);
+    if (st == BG_OK && make_parts(inst, m) != BG_OK)
+        st = BG_ERR_OUT_OF_MEMORY;
     if (st != BG_OK) {
         bg_mesh_free(&m);
         if (st == BG_ERR_OUT_OF_MEMORY)
-            bg_io_set_error(err, errlen, "'%s': out of memory for its materials", path);
+            bg_io_set_error(err, errlen, "'%s': out of memory for its materials and parts", path);
         return st;
     }
     *out = m;
@@ -546,6 +629,7 @@ struct wire_header {
     int32_t status;
     int32_t has_normals, has_uvs, has_tangents, has_material_ids;
     uint64_t vertex_count, triangle_count, mesh_count, dropped, material_count, embedded;
+    uint64_t part_count;
     char err[512];
 };
 
@@ -601,6 +685,7 @@ size_t child_memory_cap(const char *path)
     h.has_material_ids = m.material != nullptr;
     h.material_count = m.material_count;
     h.embedded = m.embedded_textures;
+    h.part_count = m.part_count;
     bool ok = write_all(fd, &h, sizeof h);
     size_t nv = m.vertex_count * sizeof(float);
     for (float **a : vertex_arrays(m))
@@ -621,6 +706,16 @@ size_t child_memory_cap(const char *path)
         const int32_t has = m.materials[k].has_base_color;
         ok = write_all(fd, &has, sizeof has) &&
              write_all(fd, m.materials[k].base_color, sizeof m.materials[k].base_color);
+    }
+    // Then each part: its first triangle and count (uint64), its two strings.
+    for (size_t k = 0; ok && k < m.part_count; ++k) {
+        const bg_mesh_part &p = m.parts[k];
+        const uint64_t range[2] = {p.first_triangle, p.triangle_count};
+        ok = write_all(fd, range, sizeof range);
+        for (const char *str : {p.name, p.mesh_name}) {
+            const uint32_t len = static_cast<uint32_t>(std::strlen(str));
+            ok = ok && write_all(fd, &len, sizeof len) && write_all(fd, str, len);
+        }
     }
     // _exit: no atexit handlers or stdio flushes of the parent's state.
     _exit(ok ? 0 : 1);
@@ -673,6 +768,46 @@ int read_wire_materials(int fd, const wire_header &h, bg_mesh &m, bool &got)
             got = !has || std::isfinite(mm.base_color[i]);
         mm.has_base_color = got && has;
     }
+    return BG_OK;
+}
+
+// The parts after the materials (child_main), checked against the caps: at
+// most BG_MESH_MAX_PARTS, strings of at most BG_MESH_MAX_STRING bytes
+// without a NUL, non-empty ranges that follow each other and cover every
+// triangle. A violation clears `got`.
+int read_wire_parts(int fd, const wire_header &h, bg_mesh &m, bool &got)
+{
+    if (!got || h.part_count == 0)
+        return BG_OK;
+    if (h.part_count > BG_MESH_MAX_PARTS || h.part_count > m.triangle_count) {
+        got = false;
+        return BG_OK;
+    }
+    if (!(m.parts = alloc_array<bg_mesh_part>(h.part_count)))
+        return BG_ERR_OUT_OF_MEMORY;
+    m.part_count = h.part_count;
+    size_t end = 0;
+    for (size_t k = 0; got && k < m.part_count; ++k) {
+        bg_mesh_part &p = m.parts[k];
+        uint64_t range[2] = {0, 0};
+        got = read_all(fd, range, sizeof range) && range[0] == end && range[1] > 0 &&
+              range[1] <= m.triangle_count - end;
+        if (!got)
+            break;
+        p.first_triangle = end;
+        p.triangle_count = range[1];
+        end += range[1];
+        for (char **str : {&p.name, &p.mesh_name}) {
+            uint32_t len = 0;
+            got = got && read_all(fd, &len, sizeof len) && len <= BG_MESH_MAX_STRING;
+            if (!got)
+                break;
+            if (!(*str = alloc_array<char>(static_cast<size_t>(len) + 1)))
+                return BG_ERR_OUT_OF_MEMORY;
+            got = read_all(fd, *str, len) && std::memchr(*str, 0, len) == nullptr;
+        }
+    }
+    got = got && end == m.triangle_count;
     return BG_OK;
 }
 
@@ -734,6 +869,8 @@ int load_isolated(const char *path, unsigned flags, bg_mesh *out, char *err, siz
             }
             if (got && rc == BG_OK)
                 rc = read_wire_materials(fds[0], h, m, got);
+            if (got && rc == BG_OK)
+                rc = read_wire_parts(fds[0], h, m, got);
         }
     }
     close(fds[0]);
@@ -919,6 +1056,11 @@ void bg_mesh_free(bg_mesh *mesh)
         for (char **str : material_strings(mesh->materials[k]))
             std::free(*str);
     std::free(mesh->materials);
+    for (size_t k = 0; mesh->parts && k < mesh->part_count; ++k) {
+        std::free(mesh->parts[k].name);
+        std::free(mesh->parts[k].mesh_name);
+    }
+    std::free(mesh->parts);
     std::memset(mesh, 0, sizeof *mesh);
 }
 

@@ -78,3 +78,25 @@ class Gltf:
                 attrs = {k: self.accessor(v) for k, v in p["attributes"].items()}
                 tris = self.accessor(p["indices"]).reshape(-1, 3)
                 yield attrs, tris, p.get("material")
+
+    def merged(self):
+        """Every primitive in one triangle list, as a viewer draws the scene
+        (our files' nodes have no transform): the attributes of the meshes
+        concatenated (primitives sharing their accessors share the vertices),
+        the triangles (n, 3) into them and each triangle's material."""
+        for node in self.json.get("nodes", []):
+            assert not any(k in node for k in ("matrix", "translation", "rotation", "scale"))
+        base, parts, tris, mats, n = {}, [], [], [], 0
+        for attrs_ix, p in ((tuple(sorted(p["attributes"].items())), p)
+                            for mesh in self.json["meshes"] for p in mesh["primitives"]):
+            assert p.get("mode", 4) == 4
+            if attrs_ix not in base:
+                attrs = {k: self.accessor(v) for k, v in attrs_ix}
+                base[attrs_ix] = n
+                parts.append(attrs)
+                n += len(attrs["POSITION"])
+            t = self.accessor(p["indices"]).reshape(-1, 3).astype(np.int64)
+            tris.append(t + base[attrs_ix])
+            mats.append(np.full(len(t), -1 if p.get("material") is None else p["material"]))
+        attrs = {k: np.concatenate([a[k] for a in parts]) for k in parts[0]}
+        return attrs, np.concatenate(tris), np.concatenate(mats)

@@ -64,12 +64,10 @@ def decode_in_file_frame(g, tmap, materials=None):
     """The map decoded per texel in the glTF's TANGENT frame (over the
     primitives whose material is in `materials`, default all); returns the
     unit vectors and a mask of the texels that are unambiguous."""
-    P, Nn, T, UV, tris = [], [], [], [], []
-    for attrs, tri, mat in g.primitives():
-        P, Nn, T, UV = attrs["POSITION"], attrs["NORMAL"], attrs["TANGENT"], attrs["TEXCOORD_0"]
-        if materials is None or mat in materials:
-            tris.append(tri)
-    tris = np.concatenate(tris).astype(np.int64)
+    attrs, tris, mats = g.merged()
+    P, Nn, T, UV = attrs["POSITION"], attrs["NORMAL"], attrs["TANGENT"], attrs["TEXCOORD_0"]
+    if materials is not None:
+        tris = tris[np.isin(mats, list(materials))]
     H, W, _ = tmap.shape
     owner, w, near = rasterize(P.astype(np.float64), UV, tris, W, H)
     ok = (owner >= 0) & ~near

@@ -156,6 +156,9 @@ typedef struct bgt_mesh_result {
                                   * map's file; 2: an 8-bit PNG of it (embedded) */
     const char *gltf_map_note;   /* why the map is not a normalTexture, or NULL */
     size_t gltf_materials, gltf_textures, gltf_textures_dropped;
+    size_t gltf_meshes;          /* meshes (and nodes): the source's node instances with
+                                  * triangles, or 1 over BG_MESH_MAX_PARTS */
+    int gltf_merged;             /* the scene had more than BG_MESH_MAX_PARTS of them */
     double t_load, t_normals, t_perturb, t_bake, t_write; /* seconds */
     /* --from: HIGH, the Embree scene's build time (inside t_load), the ray distance
      * (file units) */

@@ -39,13 +39,20 @@ typedef struct mesh_gltf_in {
                                     * vertex is split where its corners' UVs differ */
     const uint32_t *indices;
     const char *generator;         /* asset.generator, plain ASCII without quotes */
-    /* Materials: one primitive per material that a triangle uses (triangle
-     * order kept within it); material_count 0: one primitive, no material. */
+    /* Materials: in each mesh (part, below), one primitive per run of
+     * consecutive triangles of one material (triangle order kept);
+     * material_count 0: one primitive per mesh, no material. */
     const uint32_t *tri_material;  /* per triangle (< material_count), NULL: all 0 */
     size_t material_count;
     const mesh_gltf_material *materials;
     size_t image_count;
     const mesh_gltf_image *images;
+    /* Meshes: one glTF mesh per part (bg_mesh_part: the source's nodes), under
+     * a root node with the identity transform named after the part's node
+     * (else its mesh, else "mesh<i>"). part_count 0, or parts that do not
+     * cover the triangles in order: one mesh, one node "mesh0". */
+    size_t part_count;
+    const bg_mesh_part *parts;
 } mesh_gltf_in;
 
 /* ---- the materials and images of `bumpgrad mesh`'s glTF (mesh_gltf_scene.c) ---- */

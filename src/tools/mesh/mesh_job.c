@@ -693,6 +693,8 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
     r->gltf_materials = sc.material_count;
     r->gltf_textures = sc.textures_kept;
     r->gltf_textures_dropped = sc.textures_dropped;
+    r->gltf_meshes = m->part_count ? m->part_count : 1;
+    r->gltf_merged = !m->part_count;
     char gen[96];
     snprintf(gen, sizeof gen, "bumpgrad %s mesh", bg_version_string());
     mesh_gltf_in g = {.vertex_count = nv, .triangle_count = nt,
@@ -703,7 +705,8 @@ static bg_status out_gltf(mesh_out *w, const bgt_mesh_opts *o, const bg_mesh *m,
                       .tri_material = tri_mat ? tri_mat : m->material_count > 1 ? m->material : NULL,
                       .corner_uv = w->gltf_uv,
                       .material_count = sc.material_count, .materials = sc.materials,
-                      .image_count = sc.image_count, .images = sc.images};
+                      .image_count = sc.image_count, .images = sc.images,
+                      .part_count = m->part_count, .parts = m->parts};
     st = mesh_gltf_write(w->devout ? w->devout : w->of.fp, binary, &g, e);
     mesh_gltf_scene_free(&sc);
     free(tri_mat);
