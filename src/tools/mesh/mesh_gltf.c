@@ -271,14 +271,6 @@ static int buf_layout(const mesh_gltf_in *d, size_t NV, size_t C, const gltf_par
     return 0;
 }
 
-static void buf_free(gltf_buf *b)
-{
-    free(b->group_first);
-    free(b->group_mat);
-    free(b->group_part);
-    free(b->off_img);
-}
-
 static void fill_buffer(const mesh_gltf_in *d, const uint32_t *newidx, const uint32_t *src,
                         gltf_parts *ps, gltf_buf *b, unsigned char *bin)
 {
@@ -577,6 +569,7 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
     unsigned char *bin = NULL;
     sbuf js = {0};
     gltf_parts ps = {0};
+    gltf_buf b = {0};
     bg_status rc = BG_OK;
     if (!keys || !newidx || !src || parts_init(d, T, &ps) != 0) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF of %zu triangles", T);
@@ -587,9 +580,7 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
         rc = bgt_fail(e, BG_ERR_INVALID_ARGUMENT, "too many vertices for glTF (%zu)", NV);
         goto done;
     }
-    gltf_buf b;
     if (buf_layout(d, NV, C, &ps, &b) != 0) {
-        buf_free(&b);
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF of %zu triangles", T);
         goto done;
     }
@@ -597,12 +588,10 @@ bg_status mesh_gltf_write(FILE *fp, int binary, const mesh_gltf_in *d, bgt_err *
     if (!bin) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF buffer (%zu bytes)",
                       b.len);
-        buf_free(&b);
         goto done;
     }
     fill_buffer(d, newidx, src, &ps, &b, bin);
     gltf_json(&js, d, &ps, &b, binary);
-    buf_free(&b);
     if (js.oom) {
         rc = bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the glTF JSON");
         goto done;
@@ -615,5 +604,9 @@ done:
     free(bin);
     free(js.p);
     parts_free(&ps);
+    free(b.group_first); /* the layout's tables */
+    free(b.group_mat);
+    free(b.group_part);
+    free(b.off_img);
     return rc;
 }
