@@ -328,13 +328,13 @@ BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
  * axis: the plain lattice's own period) with its reciprocal, built once per
  * call in bg_real by the same operations on every ISA, and how octave_cell
  * takes the cell modulo the periods (the same cells every way):
- *  - OCT_PLAIN: every period a power of two >= 256 (float only). floor(x) modulo P is then
- *    floor(x) modulo 256 after the hash's own modulo 256, and the next corner
- *    (r + 1, or 0 at the seam) is (floor(x) + 1) modulo 256: the plain cells,
- *    for every finite x (lattice_per's r is exact for a power of two; where
- *    floor(x) + 1/2 rounds up, 2^23 <= |x| < 2^24, r = -1 is 255 modulo 256,
- *    as P - 1 is). For NaN and Inf only the next corner's cell differs, and
- *    the result is NaN either way.
+ *  - OCT_PLAIN (float only): every period a power of two >= 256. floor(x)
+ *    modulo P is then floor(x) modulo 256 after the hash's own modulo 256,
+ *    and the next corner (r + 1, or 0 at the seam) is (floor(x) + 1) modulo
+ *    256: the plain cells, for every finite x (lattice_per's r is exact for
+ *    a power of two; where floor(x) + 1/2 rounds up, 2^23 <= |x| < 2^24,
+ *    r = -1 is 255 modulo 256, as P - 1 is). For NaN and Inf only the next
+ *    corner's cell differs, and the result is NaN either way.
  *  - OCT_POW2: every period a power of two: the cell is floor(x) AND (P - 1)
  *    (mask[a] = min(P, 256) - 1), the next one (floor(x) + 1) AND (P - 1),
  *    in integers, for vectors whose every |floor(x)| < 2^22 (lattice_per's
