@@ -326,8 +326,10 @@ BG_API bg_status bg_fractal3_grad_grid(const bg_fractal *f, const bg_grid3 *g, f
  * Offsets are multiples of 1/256, so tiling is kept bit for bit.
  *
  * Cost (docs/PERFORMANCE.md, "Tileable and seeded noise"): a domain adds the
- * cell reduction modulo P per axis and, on most ISAs, a second lookup for the
- * wrapped corners. */
+ * cell reduction modulo P per axis (an integer mask when P * lacunarity^i is
+ * a power of two: prefer power-of-two periods; none at all for an octave whose
+ * every period is a power of two >= 256) and, on most ISAs, a second lookup
+ * for the wrapped corners. */
 
 /** Largest per-axis period. */
 #define BG_MAX_PERIOD 256

@@ -79,10 +79,12 @@ BG_INLINE vi vh_corner(const vhash *s, int k) { return s->h[k]; }
  * pair trick of vi_hash8 needs X1 = X + 1. 14 lookups instead of 7. With
  * every period 256 (X1 = X + 1 mod 256) these are the reference's hashes. The
  * byte-lane vocabularies (vec_avx2.h, vec_avx512.h VBMI) give the same hashes
- * with their own vi_hashp_per. */
+ * with their own vi_hashp_per, which use zseam (octave_cell); this one
+ * needs no hint. */
 BG_INLINE vi vi_perm1(vi i) { return vi_and(vi_perm2(i), vi_set1(255)); }
-BG_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
+BG_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
 {
+    (void)zseam;
     vhash s;
     vi px[2] = {vi_perm1(X), vi_perm1(X1)}, ys[2] = {Y, Y1};
     for (int k = 0; k < 4; k++) {
@@ -355,9 +357,28 @@ BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
 
 /* Per octave: the seed offset and the period (P L^i, or 256 for an untiled
  * axis: the plain lattice's own period) with its reciprocal, built once per
- * call in bg_real by the same operations on every ISA. */
+ * call in bg_real by the same operations on every ISA, and how octave_cell
+ * takes the cell modulo the periods (the same cells every way):
+ *  - OCT_PLAIN (float only): every period a power of two >= 256. floor(x)
+ *    modulo P is then floor(x) modulo 256 after the hash's own modulo 256,
+ *    and the next corner (r + 1, or 0 at the seam) is (floor(x) + 1) modulo
+ *    256: the plain cells, for every finite x (lattice_per's r is exact for
+ *    a power of two; where floor(x) + 1/2 rounds up, 2^23 <= |x| < 2^24,
+ *    r = -1 is 255 modulo 256, as P - 1 is). For NaN and Inf only the next
+ *    corner's cell differs, and the result is NaN either way.
+ *  - OCT_POW2: every period a power of two: the cell is floor(x) AND (P - 1)
+ *    (mask[a] = min(P, 256) - 1), the next one (floor(x) + 1) AND (P - 1),
+ *    in integers, for vectors whose every |floor(x)| < 2^22 (lattice_per's
+ *    exact range); lattice_per for the others.
+ *  - OCT_ANY: lattice_per.
+ * zseam[i] tells vi_hashp_per whether lanes can sit on the z seam: 0 never
+ * (P_z a power of two >= 256: Z1 = Z + 1 modulo 256), 2 often (P_z <= 64),
+ * else 1. */
+enum { OCT_PLAIN, OCT_POW2, OCT_ANY };
 typedef struct octlat {
     bg_real off[BG_MAX_OCTAVES][3], per[BG_MAX_OCTAVES][3], inv[BG_MAX_OCTAVES][3];
+    int32_t mask[BG_MAX_OCTAVES][3];
+    signed char kind[BG_MAX_OCTAVES], zseam[BG_MAX_OCTAVES];
     int tiled;  /* some period is set; else (a seed alone) the plain cells */
     int seeded; /* offsets to add (seed != 0); adding +0 would give the same bits */
 } octlat;
@@ -369,14 +390,46 @@ static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *
     bg_real freq = 1;
     const bg_real lac = (bg_real)f->lacunarity;
     for (int i = 0; i < octaves; i++) {
+        int pow2 = 1, big = 1;
         for (int a = 0; a < 3; a++) {
             bg_real P = d->period[a] ? (bg_real)d->period[a] * freq : (bg_real)256;
             L->off[i][a] = (bg_real)bg_seed_offset(d->seed, i, a);
             L->per[i][a] = P;
             L->inv[i][a] = (bg_real)1 / P;
+            /* 1 <= P <= 2^24 (bg_domain_validate), an integer: exact in long. */
+            long n = (long)P;
+            int p2 = (n & (n - 1)) == 0;
+            pow2 &= p2, big &= p2 && n >= 256;
+            L->mask[i][a] = (int32_t)((n < 256 ? n : 256) - 1);
+            if (a == 2)
+                L->zseam[i] = (signed char)(p2 && n >= 256 ? 0 : n <= 64 ? 2 : 1);
         }
+#ifdef BG_SCALAR_DOUBLE
+        /* lattice_per's double cells leave out-of-range r (r = -1 where
+         * floor(x) + 1/2 rounds up, 2^52 <= |x| < 2^53) at 0, not modulo 256. */
+        big = 0;
+#endif
+        L->kind[i] = (signed char)(big ? OCT_PLAIN : pow2 ? OCT_POW2 : OCT_ANY);
         freq *= lac;
     }
+}
+
+/* OCT_POW2's cells (octlat): 1 if every |floor(q)| < 2^22 (false for NaN), and
+ * then the fractions and the cells of both corners per axis. */
+BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c)
+{
+    vf flx = vf_floor(qx), fly = vf_floor(qy), flz = vf_floor(qz);
+    vf lim = vf_set1((bg_real)4194304);
+    if (!vm_all(vm_and(vm_and(vf_lt(vf_abs(flx), lim), vf_lt(vf_abs(fly), lim)),
+                       vf_lt(vf_abs(flz), lim))))
+        return 0;
+    vi one = vi_set1(1);
+    vi cx = vi_from_vf(flx), cy = vi_from_vf(fly), cz = vi_from_vf(flz);
+    vi mx = vi_set1(L->mask[i][0]), my = vi_set1(L->mask[i][1]), mz = vi_set1(L->mask[i][2]);
+    c->fx = vf_sub(qx, flx), c->fy = vf_sub(qy, fly), c->fz = vf_sub(qz, flz);
+    c->h = vi_hashp_per(vi_and(cx, mx), vi_and(cy, my), vi_and(cz, mz), vi_and(vi_add(cx, one), mx),
+                        vi_and(vi_add(cy, one), my), vi_and(vi_add(cz, one), mz), L->zseam[i]);
+    return 1;
 }
 
 /* Octave i's cell at freq * p (+ its offset, wrapped, with a domain L; the
@@ -392,14 +445,18 @@ BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real fr
         qy = vf_add(qy, vf_set1(L->off[i][1]));
         qz = vf_add(qz, vf_set1(L->off[i][2]));
     }
-    if (!L->tiled) /* periods 256: the plain cells, the same bits at less cost */
+    /* periods 256 (or powers of two above): the plain cells, the same bits at
+     * less cost */
+    if (!L->tiled || L->kind[i] == OCT_PLAIN)
         return noise_cell(qx, qy, qz);
     vi X, Y, Z, X1, Y1, Z1;
     vcell c;
+    if (L->kind[i] == OCT_POW2 && lattice_pow2(L, i, qx, qy, qz, &c))
+        return c;
     c.fx = lattice_per(qx, L->per[i][0], L->inv[i][0], &X, &X1);
     c.fy = lattice_per(qy, L->per[i][1], L->inv[i][1], &Y, &Y1);
     c.fz = lattice_per(qz, L->per[i][2], L->inv[i][2], &Z, &Z1);
-    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1);
+    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1, L->zseam[i]);
     return c;
 }
 
@@ -863,9 +920,22 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
 
 /* ---- Fractals over a domain (noise.h bg_domain) ----------------------------
  * The caller validated `d` (bg_domain_validate) and found it set. Periodic
- * noise (BG_FUNC_NOISE) pipelines its hash chains as noise3 does. */
+ * noise (BG_FUNC_NOISE) pipelines its hash chains as noise3 does, and where
+ * it does not, runs a loop of its own (BG_DNOISE_REST): octave 0's cell and
+ * noise_at, the operations of fractal_vec_l for one octave, without the
+ * fractal loop in the same body (AVX2 pnoise3_grad 84 -> 79 instructions per
+ * sample). */
 #define BG_CELL_DOM(p) octave_cell(&L, 0, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),     \
                                    vf_loadn(z + (p), LANES), 1)
+#define BG_DNOISE_REST(i0, n, want_grad, STORE)                                                 \
+    BG_FOR_BATCH_FROM(i, c, i0, n)                                                             \
+    {                                                                                          \
+        corner r = noise_at(octave_cell(&L, 0, vf_loadn(x + i, c), vf_loadn(y + i, c),         \
+                                        vf_loadn(z + i, c), 1),                                \
+                            want_grad);                                                        \
+        STORE;                                                                                 \
+    }                                                                                          \
+    i0 = n
 void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real *x,
                          const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
                          bg_real *gy, bg_real *gz)
@@ -877,6 +947,7 @@ void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real 
 #define DNOISE_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
         BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)
 #undef DNOISE_GRAD_AT
+        BG_DNOISE_REST(i0, BG_VEC_N(n), 1, store_corner(r, i, c, v, gx, gy, gz));
     }
     BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
     {
@@ -904,6 +975,7 @@ void KFN(dfractal3)(const bg_fractal *f, const bg_domain *d, const bg_real *x, c
 #define DNOISE_AT(cell, p) store_out(v + (p), noise_at(cell, 0).v, LANES)
         BG_PIPELINED_CELL(i0, BG_VEC_N(n), DNOISE_AT, BG_CELL_DOM)
 #undef DNOISE_AT
+        BG_DNOISE_REST(i0, BG_VEC_N(n), 0, store_out(v + i, r.v, c));
     }
     BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
     {

@@ -96,6 +96,8 @@ static inline vm vi_test(vi a, vi bits)
     return vm_not(_mm256_castsi256_ps(
         _mm256_cmpeq_epi32(_mm256_and_si256(a, bits), _mm256_setzero_si256())));
 }
+/* Every lane of m set. */
+static inline int vm_all(vm m) { return _mm256_movemask_ps(m) == 255; }
 /* bg_perm_pair[idx & 255]: vpgatherdd. -DBG_VEC_NO_GATHER builds the
  * scalar-load alternative measured against it in docs/KERNELS.md. */
 static inline vi vi_perm2(vi idx)
@@ -221,8 +223,10 @@ static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l,
  * first step by the pair gather, whose p[X+1] is p[X1] except at the seam,
  * where X1 = 0; the second with the byte difference Y1 - Y for the "+1"; the
  * last looks up the z and z + 1 corners' codes separately (the low nibble of
- * bg_perm_code2 is p[i]'s code) and packs them as vi_hashp does. */
-BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
+ * bg_perm_code2 is p[i]'s code) and packs them as vi_hashp does. zseam as
+ * in vec_avx512.h, but the separate lookup (about 35 instructions) is always
+ * behind the test: with 8 lanes it is needed less often. */
+BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
 {
     const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
     const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
@@ -240,7 +244,7 @@ BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
     /* Off the z seam the pair table gives both corners (vec_avx512.h). */
     __m256i h = bg_perm_bytes_of(bg_perm_code2, hz);
     __m256i zn = _mm256_and_si256(_mm256_add_epi32(Z, _mm256_set1_epi32(1)), m8);
-    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(Z1, zn)) != -1) {
+    if (zseam && _mm256_movemask_epi8(_mm256_cmpeq_epi32(Z1, zn)) != -1) {
         __m256i hi = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(hz, dzb)), lo4);
         h = _mm256_or_si256(_mm256_and_si256(h, lo4), _mm256_slli_epi16(hi, 4));
     }

@@ -71,6 +71,8 @@ static inline vi vi_and(vi a, vi b) { return _mm512_and_si512(a, b); }
 static inline vm vi_lt(vi a, vi b) { return _mm512_cmplt_epi32_mask(a, b); }
 static inline vm vi_eq(vi a, vi b) { return _mm512_cmpeq_epi32_mask(a, b); }
 static inline vm vi_test(vi a, vi bits) { return _mm512_test_epi32_mask(a, bits); }
+/* Every lane of m set. */
+static inline int vm_all(vm m) { return m == 0xffff; }
 
 #ifdef BG_VEC_VBMI
 /* Perlin's permutation applied to every byte: p256[b] for each of the 64 bytes,
@@ -121,8 +123,11 @@ static inline vi vh_corner(const vhash *l, int k) { return _mm512_srli_epi32(*l,
  * the byte difference X1 - X (1, or 1 - P modulo 256): the same three byte
  * lookups for the first two steps; the last step looks up the z and z + 1
  * corners separately (p[i] & 15 each, where bg_perm_nib2 pairs p[i], p[i+1])
- * and packs them into vi_hashp's nibble layout. */
-static inline vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
+ * and packs them into vi_hashp's nibble layout. zseam (bump_tmpl.c
+ * octave_cell): 0 no lane is on the z seam, 1 few are (tested per vector), 2
+ * many are: the z + 1 lookup without the test, whose branch mispredicted
+ * for most vectors (P_z = 16: a lane of 16 on the seam in 64% of them). */
+static inline vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
 {
     const __m512i b0 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
     const __m512i b01 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
@@ -141,7 +146,7 @@ static inline vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1)
      * the other lanes). */
     __m512i h = bg_perm_bytes_of(bg_perm_nib2, hz);
     __m512i zn = _mm512_and_si512(_mm512_add_epi32(Z, _mm512_set1_epi32(1)), _mm512_set1_epi32(255));
-    if (_mm512_cmpneq_epi32_mask(Z1, zn)) {
+    if (zseam == 2 || (zseam && _mm512_cmpneq_epi32_mask(Z1, zn))) {
         __m512i hi = _mm512_slli_epi16(_mm512_and_si512(bg_perm_bytes(_mm512_add_epi8(hz, dzb)), lo4), 4);
         h = _mm512_or_si512(_mm512_and_si512(h, lo4), hi);
     }

@@ -71,6 +71,8 @@ static inline vi vi_and(vi a, vi b) { return a & b; }
 static inline vm vi_lt(vi a, vi b) { return a < b; }
 static inline vm vi_eq(vi a, vi b) { return a == b; }
 static inline vm vi_test(vi a, vi bits) { return (a & bits) != 0; }
+/* Every lane of m set. */
+static inline int vm_all(vm m) { return m != 0; }
 /* bg_perm_pair[idx & 255] (p[idx] | p[idx + 1] << 8), idx >= 0. */
 static inline vi vi_perm2(vi idx) { return bg_perm_pair[idx & 255]; }
 /* Logical shift right by 8 of a non-negative lane. */

@@ -68,6 +68,8 @@ static inline vi vi_and(vi a, vi b) { return vandq_s32(a, b); }
 static inline vm vi_lt(vi a, vi b) { return vcltq_s32(a, b); }
 static inline vm vi_eq(vi a, vi b) { return vceqq_s32(a, b); }
 static inline vm vi_test(vi a, vi bits) { return vtstq_s32(a, bits); }
+/* Every lane of m set. */
+static inline int vm_all(vm m) { return vminvq_u32(m) != 0; }
 /* bg_perm_pair[idx & 255]: no gather on NEON, four lane loads. */
 static inline vi vi_perm2(vi idx)
 {

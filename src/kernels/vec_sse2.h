@@ -84,6 +84,8 @@ static inline vm vi_test(vi a, vi bits)
 {
     return vm_not(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_and_si128(a, bits), _mm_setzero_si128())));
 }
+/* Every lane of m set. */
+static inline int vm_all(vm m) { return _mm_movemask_ps(m) == 15; }
 /* bg_perm_pair[idx & 255]: SSE2 has no gather, so four scalar loads. */
 static inline vi vi_perm2(vi idx)
 {
