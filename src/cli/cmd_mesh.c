@@ -56,7 +56,10 @@ static void print_json(const bgt_mesh_opts *o, const bgt_mesh_result *r)
             cli_json_num(&j, "bvh_build_s", r->t_bvh);
         }
         cli_json_str(&j, "filter", o->bake.filter == MESH_FILTER_NONE ? "none" : "footprint");
-        cli_json_int(&j, "samples", o->bake.samples > 0 ? o->bake.samples : MESH_DEFAULT_SAMPLES);
+        if (o->bake.samples > 0)
+            cli_json_int(&j, "samples", o->bake.samples);
+        else
+            cli_json_str(&j, "samples", "auto");
         cli_json_int(&j, "padding", o->bake.padding);
         cli_json_num(&j, "texel_size", r->bake.texel_size * r->unit);
         cli_json_int(&j, "triangles_outside_unit_square", (long long)r->bake.outside_triangles);
@@ -236,7 +239,7 @@ static void mesh_defaults(void *p)
     a->bake_depth = -1; /* half for .exr, else 8 bits */
     a->bake.space = MESH_BAKE_TANGENT;
     a->bake.padding = 16;
-    a->bake.samples = MESH_DEFAULT_SAMPLES;
+    a->bake.samples = 0;
     a->bake.tangents = MESH_TANGENTS_MIKK;
     bgt_height_init(&a->h);
 }
@@ -304,8 +307,9 @@ static const cli_opt mesh_bake_table[] = {
      .choices = filter_choices, .choice_values = filter_values},
     {.name = "samples", .kind = CLI_KIND_INT, .offset = A(bake.samples), .metavar = "N",
      .help = "N x N stratified samples per texel, each with its share of the footprint, "
-             "averaged (default 2; 1 = the texel centre alone; more for a --height-grid or a "
-             "smoother map)",
+             "averaged (1 = the texel centre alone; more for a --height-grid or a smoother "
+             "map). Default: 2 x 2, and 7 per texel on triangles where an octave has cells "
+             "narrower than 4 texels",
      .lo = 1, .hi = MESH_MAX_SAMPLES},
     {.name = "tile", .kind = CLI_KIND_INT, .offset = A(bake.only_tile), .metavar = "UDIM",
      .help = "with a <UDIM> map name: bake only this tile (1001..1999), texel for texel the "

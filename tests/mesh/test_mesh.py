@@ -35,7 +35,7 @@ HEIGHT = ["--function", "fbm", "--octaves", "4", "--lacunarity", "2.1", "--gain"
 def run(args, expect=None):
     # The oracle evaluates the height at single points of the file's positions:
     # compare with the unfiltered one-sample bake in the file's units (the
-    # defaults, --units model, --filter footprint and --samples 2, are checked by
+    # defaults, --units model, --filter footprint and the default samples, are checked by
     # test_mesh_scale.py and test_mesh_aa.py).
     args = list(args) + ["--units", "file"]
     if "--bake-normal-map" in args:

@@ -5,7 +5,8 @@ silent (UVs outside the unit square warn with the tiles and the triangles
 left out; an empty bake fails with or without <UDIM>; `render` reads a
 <UDIM> set), and scale (the
 default bake of a model and of the same model scaled by 1000 agree texel for
-texel within one 8-bit step).
+texel within one 8-bit step; moved as well, all but a few texels next to
+turbulence creases do).
 
 usage: test_mesh_rules.py BUMPGRAD MESH_ORACLE MODELS_DIR
 Exit 77 (skip) when the models are missing."""
@@ -124,20 +125,28 @@ def render_udim(tmp):
 
 def scale(tmp):
     a, b = os.path.join(tmp, "cs1.obj"), os.path.join(tmp, "cs1000.obj")
+    c = os.path.join(tmp, "cs1000m.obj")
     write_obj(a, *cubesphere(12, 1.0))
     pos, uv, faces = cubesphere(12, 1.0)
-    write_obj(b, pos * 1000.0 + np.array([5000.0, -300.0, 12.0]), uv, faces)
+    write_obj(b, pos * 1000.0, uv, faces)
+    write_obj(c, pos * 1000.0 + np.array([5000.0, -300.0, 12.0]), uv, faces)
     maps = []
-    for units in ([], ["--units", "file"]):
-        for src in (a, b):
+    for units, srcs in (([], (a, b, c)), (["--units", "file"], (a, b))):
+        for src in srcs:
             out = os.path.join(tmp, "s%d.png" % len(maps))
             p = run([src, "--bake-normal-map", out, "--size", "128", "--quiet"] + units)
             check(p.returncode == 0, "scale: bake %s %s" % (os.path.basename(src), units))
             maps.append(np.round(read_image(ORACLE, tmp, out) * 255))
     d = np.abs(maps[0] - maps[1]).max()
     check(d <= 1, "scale: the default bake of a model and of the same model scaled by 1000 "
-          "(and moved) agree within one 8-bit step (max %d)" % d)
-    d = np.abs(maps[2] - maps[3]).max()
+          "agree within one 8-bit step (max %d)" % d)
+    # Moved 5000 units away the positions are coarser in float: a texel point
+    # within that rounding of a turbulence crease takes the other side's slope,
+    # so a few texels (3 of 16384 when this was written) differ by more.
+    d = np.abs(maps[0] - maps[2]).max(axis=-1)
+    check((d > 1).sum() <= 16 and d.max() <= 12, "scale: scaled by 1000 and moved, at most 16 "
+          "texels beyond one 8-bit step (%d, max %d)" % ((d > 1).sum(), d.max()))
+    d = np.abs(maps[3] - maps[4]).max()
     check(d > 10, "scale: with --units file they differ (max %d steps)" % d)
 
 

@@ -39,7 +39,13 @@ typedef enum mesh_bake_filter {
     MESH_FILTER_NONE = 1       /* every octave at the sample point */
 } mesh_bake_filter;
 #define MESH_MAX_SAMPLES 16
-#define MESH_DEFAULT_SAMPLES 2
+/* The default sampling (samples = 0, mesh_bake.c sample_patterns): 2 x 2 per
+ * texel, and a rank-1 lattice of MESH_DENSE_SAMPLES points (generator
+ * MESH_DENSE_GENERATOR) on triangles where an octave the 2 x 2 samples keep
+ * has cells narrower than MESH_DENSE_CELL texels. */
+#define MESH_DENSE_SAMPLES 7
+#define MESH_DENSE_GENERATOR 3
+#define MESH_DENSE_CELL 4.0
 
 typedef struct mesh_bake_opts {
     int width, height;   /* per tile */
@@ -53,7 +59,8 @@ typedef struct mesh_bake_opts {
     const bgt_progress *progress; /* texels shaded, over all tiles; may be NULL */
     mesh_bake_filter filter;
     int samples;         /* N: N x N stratified samples per texel, averaged (1: the texel
-                          * centre; 0: MESH_DEFAULT_SAMPLES), at most MESH_MAX_SAMPLES */
+                          * centre; 0: the default, 2 x 2 or MESH_DENSE_SAMPLES per
+                          * triangle), at most MESH_MAX_SAMPLES */
     const struct mesh_hi *hi; /* the high-poly source of --from (mesh_internal.h), or NULL */
     int only_tile;       /* 0, or with udim one UDIM number: bake that tile alone (texel
                           * for texel the same tile as the full bake; an error if the UVs

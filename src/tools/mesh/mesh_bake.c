@@ -41,7 +41,16 @@ typedef struct bake_ctx {
     int width;
     int height;
     double u0, v0;      /* the tile's origin in UV */
-    int samples;        /* per axis, >= 1 */
+    /* The samples of a texel (offsets from its centre, in texels, and each
+     * one's share of the texel's footprint): pattern 0 everywhere, or pattern
+     * 1 on the triangles marked in dense (docs/MESH.md, "Anti-aliasing"). */
+    struct bake_pattern {
+        size_t n;
+        float ox[MESH_MAX_SAMPLES * MESH_MAX_SAMPLES], oy[MESH_MAX_SAMPLES * MESH_MAX_SAMPLES];
+        float fscale;
+    } pat[2];
+    size_t smax;          /* the larger pattern's count */
+    const uint8_t *dense; /* per triangle: 1 for pattern 1; NULL: pattern 0 alone */
     const float *foot;  /* per triangle: one texel's object-space footprint, or NULL */
     const float *foot_all; /* the same, always (for the summary's texel size) */
     const int32_t *tri; /* triangle per texel, -1 = empty */
@@ -69,7 +78,8 @@ static void flat_vector(const bake_ctx *c, float *out)
 /* Barycentric weights (w1, w2) of the point (cx, cy) of the texel grid in
  * triangle t's UV image (the formula of raster_triangle; outside the
  * triangle they extrapolate its plane). */
-static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, float *w1, float *w2);
+static void weight_derivs(const bake_ctx *c, size_t t, double *d1x, double *d1y, double *d2x,
+                          double *d2y);
 
 /* --from: the samples' rays (mesh_hi_trace_n from LOW's point p along LOW's
  * normal q, or from the cage's point cg). A hit gives HIGH's point and its
@@ -124,16 +134,15 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
 {
     const bg_mesh *m = c->m;
     size_t W = (size_t)c->width;
-    const int N = c->samples;
-    const size_t S = (size_t)N * (size_t)N;
+    const size_t S = c->smax;
     size_t cnt = 0;
     for (size_t k = begin * W; k < end * W; k++)
         cnt += c->tri[k] >= 0;
     if (cnt == 0)
         return;
-    size_t ns = cnt * S;
+    size_t ns = cnt * S; /* at most */
     float *buf = malloc(ns * (c->hi ? 18 : 10) * sizeof *buf);
-    size_t *idx = malloc(cnt * sizeof *idx);
+    size_t *idx = malloc(2 * cnt * sizeof *idx); /* per texel: k, its first sample */
     if (!buf || !idx) {
         free(buf);
         free(idx);
@@ -148,33 +157,79 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
     float *dist = buf + 10 * ns, *hit = buf + 11 * ns, *cg = buf + 12 * ns;
     const bg_mesh *cage = c->hi && c->hi->has_cage ? &c->hi->cage : NULL;
     size_t j = 0, s = 0, n_miss = 0, n_miss_texels = 0, n_partial = 0;
+    int32_t tprev = -1;
+    /* the texel-grid derivatives of the triangle's barycentric weights, and of
+     * its interpolated position, normal and cage point */
+    double d1x = 0.0, d1y = 0.0, d2x = 0.0, d2y = 0.0;
+    float dp[2][3] = {{0}}, dq[2][3] = {{0}}, dc[2][3] = {{0}};
     for (size_t k = begin * W; k < end * W; k++) {
         int32_t t = c->tri[k];
         if (t < 0)
             continue;
         const uint32_t *ix = m->indices + 3 * (size_t)t;
-        for (size_t q = 0; q < S; q++, s++) {
-            float w1 = c->b1[k], w2 = c->b2[k];
-            if (N > 1) /* stratified: the centres of an N x N grid in the texel */
-                sample_weights(c, (size_t)t, (double)(k % W) + ((double)(q % (size_t)N) + 0.5) / N,
-                               (double)(k / W) + ((double)(q / (size_t)N) + 0.5) / N, &w1, &w2);
-            float w0 = 1.0f - w1 - w2;
-            px[s] = w0 * m->px[ix[0]] + w1 * m->px[ix[1]] + w2 * m->px[ix[2]];
-            py[s] = w0 * m->py[ix[0]] + w1 * m->py[ix[1]] + w2 * m->py[ix[2]];
-            pz[s] = w0 * m->pz[ix[0]] + w1 * m->pz[ix[1]] + w2 * m->pz[ix[2]];
-            qx[s] = w0 * c->nx[ix[0]] + w1 * c->nx[ix[1]] + w2 * c->nx[ix[2]];
-            qy[s] = w0 * c->ny[ix[0]] + w1 * c->ny[ix[1]] + w2 * c->ny[ix[2]];
-            qz[s] = w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]];
-            fp[s] = c->foot ? c->foot[t] / (float)N : 0.0f;
-            if (cage) { /* the same weights on the cage's triangle */
-                const uint32_t *cx = cage->indices + 3 * (size_t)t;
-                cg[3 * s] = w0 * cage->px[cx[0]] + w1 * cage->px[cx[1]] + w2 * cage->px[cx[2]];
-                cg[3 * s + 1] = w0 * cage->py[cx[0]] + w1 * cage->py[cx[1]] + w2 * cage->py[cx[2]];
-                cg[3 * s + 2] = w0 * cage->pz[cx[0]] + w1 * cage->pz[cx[1]] + w2 * cage->pz[cx[2]];
+        const struct bake_pattern *pt = &c->pat[c->dense ? c->dense[t] : 0];
+        const uint32_t *cx = cage ? cage->indices + 3 * (size_t)t : NULL;
+        if (pt->n > 1 && t != tprev) {
+            tprev = t;
+            weight_derivs(c, (size_t)t, &d1x, &d1y, &d2x, &d2y);
+            const double dw[2][2] = {{d1x, d2x}, {d1y, d2y}};
+            for (int a = 0; a < 2; a++) {
+                const float *P[3] = {m->px, m->py, m->pz}, *Q[3] = {c->nx, c->ny, c->nz};
+                for (int e = 0; e < 3; e++) {
+                    dp[a][e] = (float)(dw[a][0] * ((double)P[e][ix[1]] - P[e][ix[0]]) +
+                                       dw[a][1] * ((double)P[e][ix[2]] - P[e][ix[0]]));
+                    dq[a][e] = (float)(dw[a][0] * ((double)Q[e][ix[1]] - Q[e][ix[0]]) +
+                                       dw[a][1] * ((double)Q[e][ix[2]] - Q[e][ix[0]]));
+                    if (cx) {
+                        const float *G[3] = {cage->px, cage->py, cage->pz};
+                        dc[a][e] = (float)(dw[a][0] * ((double)G[e][cx[1]] - G[e][cx[0]]) +
+                                           dw[a][1] * ((double)G[e][cx[2]] - G[e][cx[0]]));
+                    }
+                }
             }
         }
-        idx[j++] = k;
+        /* the texel centre; the samples move from it along the triangle's
+         * plane (extended past its edges where a sample leaves it) */
+        float w1 = c->b1[k], w2 = c->b2[k], w0 = 1.0f - w1 - w2;
+        float p0[3] = {w0 * m->px[ix[0]] + w1 * m->px[ix[1]] + w2 * m->px[ix[2]],
+                       w0 * m->py[ix[0]] + w1 * m->py[ix[1]] + w2 * m->py[ix[2]],
+                       w0 * m->pz[ix[0]] + w1 * m->pz[ix[1]] + w2 * m->pz[ix[2]]};
+        float q0[3] = {w0 * c->nx[ix[0]] + w1 * c->nx[ix[1]] + w2 * c->nx[ix[2]],
+                       w0 * c->ny[ix[0]] + w1 * c->ny[ix[1]] + w2 * c->ny[ix[2]],
+                       w0 * c->nz[ix[0]] + w1 * c->nz[ix[1]] + w2 * c->nz[ix[2]]};
+        float c0[3] = {0};
+        if (cx) /* the same weights on the cage's triangle */
+            for (int e = 0; e < 3; e++) {
+                const float *G = e == 0 ? cage->px : e == 1 ? cage->py : cage->pz;
+                c0[e] = w0 * G[cx[0]] + w1 * G[cx[1]] + w2 * G[cx[2]];
+            }
+        const float f = c->foot ? c->foot[t] * pt->fscale : 0.0f;
+        idx[2 * j] = k, idx[2 * j + 1] = s;
+        j++;
+        if (pt->n == 1) {
+            px[s] = p0[0], py[s] = p0[1], pz[s] = p0[2];
+            qx[s] = q0[0], qy[s] = q0[1], qz[s] = q0[2];
+            fp[s] = f;
+            if (cx)
+                memcpy(cg + 3 * s, c0, sizeof c0);
+            s++;
+            continue;
+        }
+        for (size_t q = 0; q < pt->n; q++, s++) {
+            const float ox = pt->ox[q], oy = pt->oy[q];
+            px[s] = p0[0] + ox * dp[0][0] + oy * dp[1][0];
+            py[s] = p0[1] + ox * dp[0][1] + oy * dp[1][1];
+            pz[s] = p0[2] + ox * dp[0][2] + oy * dp[1][2];
+            qx[s] = q0[0] + ox * dq[0][0] + oy * dq[1][0];
+            qy[s] = q0[1] + ox * dq[0][1] + oy * dq[1][1];
+            qz[s] = q0[2] + ox * dq[0][2] + oy * dq[1][2];
+            fp[s] = f;
+            if (cx)
+                for (int e = 0; e < 3; e++)
+                    cg[3 * s + (size_t)e] = c0[e] + ox * dc[0][e] + oy * dc[1][e];
+        }
     }
+    ns = s;
     if (c->hi) {
         shade_high(c, ns, px, py, pz, qx, qy, qz, cage ? cg : NULL, dist, hit, buf + 15 * ns, gx,
                    gy, gz);
@@ -189,13 +244,14 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
         bg_perturb_batch(c->method, qx, qy, qz, gx, gy, gz, ns, gx, gy, gz);
     }
     for (j = 0; j < cnt; j++) {
-        size_t k = idx[j];
+        size_t k = idx[2 * j], s0 = idx[2 * j + 1], s1 = j + 1 < cnt ? idx[2 * j + 3] : ns;
+        size_t S = s1 - s0;
         float *out = c->vec + 3 * k;
         double n1x = 0.0, n1y = 0.0, n1z = 0.0;
         if (c->hi) { /* the texel's distance and misses */
             size_t hits = 0;
             double dsum = 0.0;
-            for (size_t q = j * S; q < (j + 1) * S; q++)
+            for (size_t q = s0; q < s1; q++)
                 if (hit[q] != 0.0f)
                     hits++, dsum += dist[q];
             c->aux[2 * k] = hits ? (float)(dsum / (double)hits) : 0.0f;
@@ -205,9 +261,9 @@ static void shade_rows_work(bake_ctx *c, size_t begin, size_t end)
             n_partial += hits > 0 && hits < S;
         }
         if (S == 1) {
-            n1x = gx[j], n1y = gy[j], n1z = gz[j];
+            n1x = gx[s0], n1y = gy[s0], n1z = gz[s0];
         } else { /* the mean of the samples' unit normals, normalized */
-            for (size_t q = j * S; q < (j + 1) * S; q++)
+            for (size_t q = s0; q < s1; q++)
                 n1x += gx[q], n1y += gy[q], n1z += gz[q];
             double l = sqrt(n1x * n1x + n1y * n1y + n1z * n1z);
             if (l > 0.0 && isfinite(l))
@@ -285,18 +341,79 @@ static int uv_image(const bg_mesh *m, size_t t, double u0, double v0, int W, int
     return *area != 0.0 && isfinite(*area);
 }
 
-static void sample_weights(const bake_ctx *c, size_t t, double cx, double cy, float *w1, float *w2)
+/* The derivatives of the barycentric weights (w1, w2) of triangle t along the
+ * texel grid's x and y (0 for a degenerate UV image). */
+static void weight_derivs(const bake_ctx *c, size_t t, double *d1x, double *d1y, double *d2x,
+                          double *d2y)
 {
     double X[3], Y[3], area;
     if (!uv_image(c->m, t, c->u0, c->v0, c->width, c->height, X, Y, &area)) {
-        *w1 = *w2 = 1.0f / 3.0f;
+        *d1x = *d1y = *d2x = *d2y = 0.0;
         return;
     }
     double inv = 1.0 / area;
-    double l0 = ((X[2] - X[1]) * (cy - Y[1]) - (Y[2] - Y[1]) * (cx - X[1])) * inv;
-    double l1 = ((X[0] - X[2]) * (cy - Y[2]) - (Y[0] - Y[2]) * (cx - X[2])) * inv;
-    *w1 = (float)l1;
-    *w2 = (float)(1.0 - l0 - l1);
+    double d0x = -(Y[2] - Y[1]) * inv, d0y = (X[2] - X[1]) * inv;
+    *d1x = -(Y[0] - Y[2]) * inv, *d1y = (X[0] - X[2]) * inv;
+    *d2x = -d0x - *d1x, *d2y = -d0y - *d1y;
+}
+
+/* N x N stratified: the centres of an N x N grid of the texel. */
+static void pattern_grid(struct bake_pattern *p, int N)
+{
+    p->n = (size_t)N * (size_t)N;
+    for (size_t q = 0; q < p->n; q++) {
+        p->ox[q] = (float)(((double)(q % (size_t)N) + 0.5) / N - 0.5);
+        p->oy[q] = (float)(((double)(q / (size_t)N) + 0.5) / N - 0.5);
+    }
+    p->fscale = 1.0f / (float)N;
+}
+
+/* A rank-1 lattice of K points with generator G (K, G coprime): x = (q + 1/2)
+ * / K, y = ((q G mod K) + 1/2) / K, one point in each row and column of a
+ * K x K grid (Keller's lattice rules). */
+static void pattern_lattice(struct bake_pattern *p, int K, int G)
+{
+    p->n = (size_t)K;
+    for (int q = 0; q < K; q++) {
+        p->ox[q] = (float)(((double)q + 0.5) / K - 0.5);
+        p->oy[q] = (float)(((double)((q * G) % K) + 0.5) / K - 0.5);
+    }
+    p->fscale = (float)(1.0 / sqrt((double)K));
+}
+
+/* The samples of a texel. With o->samples = N > 0: an N x N grid on every
+ * triangle. With 0 (the default, docs/MESH.md "Anti-aliasing"): a 2 x 2 grid,
+ * and MESH_DENSE_SAMPLES points of a rank-1 lattice on the triangles where
+ * an octave that the 2 x 2 samples keep (weight > 0 at their footprint,
+ * bg_octave_weight; every octave without the footprint filter) has lattice
+ * cells narrower than MESH_DENSE_CELL texels: a few samples cannot average
+ * such an octave over the texel, and the other triangles need no more. The
+ * height of --from and of a grid has no octaves to look at: 2 x 2 there. */
+static void sample_patterns(bake_ctx *c, const mesh_bake_opts *o, const float *foot,
+                            uint8_t *dense)
+{
+    c->dense = NULL;
+    pattern_grid(&c->pat[0], o->samples > 0 ? o->samples : 2);
+    c->smax = c->pat[0].n;
+    if (o->samples > 0 || c->hi || c->h->grid)
+        return;
+    pattern_lattice(&c->pat[1], MESH_DENSE_SAMPLES, MESH_DENSE_GENERATOR);
+    c->smax = c->pat[1].n > c->smax ? c->pat[1].n : c->smax;
+    const bg_height *h = &c->h->h;
+    int oct = h->fractal.function == BG_FUNC_NOISE ? 1 : h->fractal.octaves;
+    double freq = fabs((double)h->frequency), lac = h->fractal.lacunarity;
+    for (size_t t = 0; t < c->m->triangle_count; t++) {
+        double w = (double)foot[t], cellmin = INFINITY, fq = freq;
+        for (int i = 0; i < oct; i++, fq *= lac) {
+            float wt = c->foot ? bg_octave_weight((float)(w * c->pat[0].fscale * freq),
+                                                  h->fractal.lacunarity, i)
+                               : 1.0f;
+            if (wt > 0.0f)
+                cellmin = fmin(cellmin, 1.0 / fq);
+        }
+        dense[t] = w > 0.0 && cellmin < MESH_DENSE_CELL * w;
+    }
+    c->dense = dense;
 }
 
 /* One texel's footprint on the surface for every triangle, in object units:
@@ -380,65 +497,99 @@ static int raster_triangle(const bg_mesh *m, size_t t, double u0, double v0, int
  * between them instead of mixing them; a texel that a triangle covers is
  * never written. level[k]: 0 empty, 1 baked, p + 1 filled by pass p;
  * isl[k]: the island of a filled texel. */
-static size_t pad(float *vec, float *aux, uint16_t *level, int32_t *isl, int W, int H,
-                  int passes, int tangent)
+/* Pass p's work on texel k (empty): fill it from its neighbours filled
+ * before the pass (level 1..p), as described above; 0 if it has none. */
+static int pad_texel(float *vec, float *aux, uint16_t *level, int32_t *isl, int W, int H,
+                     int p, int tangent, size_t k)
 {
-    size_t filled = 0;
+    int x = (int)(k % (size_t)W), y = (int)(k / (size_t)W);
+    size_t nb[8];
+    int n = 0;
+    for (int dy = -1; dy <= 1; dy++) {
+        for (int dx = -1; dx <= 1; dx++) {
+            int xx = x + dx, yy = y + dy;
+            if ((dx | dy) == 0 || xx < 0 || yy < 0 || xx >= W || yy >= H)
+                continue;
+            size_t q = (size_t)yy * (size_t)W + (size_t)xx;
+            if (level[q] == 0 || level[q] > p)
+                continue;
+            nb[n++] = q;
+        }
+    }
+    if (!n)
+        return 0;
+    int32_t best = isl[nb[0]];
+    int best_count = 0;
+    for (int i = 0; i < n; i++) {
+        int cnt = 0;
+        for (int j2 = 0; j2 < n; j2++)
+            cnt += isl[nb[j2]] == isl[nb[i]];
+        if (cnt > best_count || (cnt == best_count && isl[nb[i]] < best))
+            best = isl[nb[i]], best_count = cnt;
+    }
+    double s[3] = {0, 0, 0}, a[2] = {0, 0};
+    int na = 0;
+    for (int i = 0; i < n; i++) {
+        if (isl[nb[i]] != best)
+            continue;
+        const float *v = vec + 3 * nb[i];
+        s[0] += v[0], s[1] += v[1], s[2] += v[2];
+        if (aux) /* --from's distance and misses: the plain mean */
+            a[0] += aux[2 * nb[i]], a[1] += aux[2 * nb[i] + 1], na++;
+    }
+    if (aux && na)
+        aux[2 * k] = (float)(a[0] / na), aux[2 * k + 1] = (float)(a[1] / na);
+    double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    float *o = vec + 3 * k;
+    if (l > 0.0) {
+        o[0] = (float)(s[0] / l), o[1] = (float)(s[1] / l), o[2] = (float)(s[2] / l);
+    } else {
+        o[0] = 0.0f, o[1] = 0.0f, o[2] = tangent ? 1.0f : 0.0f;
+    }
+    level[k] = (uint16_t)(p + 1);
+    isl[k] = best;
+    return 1;
+}
+
+/* The passes visit only the candidates: in pass 1 every empty texel, in pass
+ * p > 1 the empty neighbours of the texels pass p - 1 filled (any other empty
+ * texel has no neighbour of level p and, having none below p either, none at
+ * all). A pass reads only levels 1..p, so the order of its texels does not
+ * matter. front: room for W x H texel numbers; mark: W x H bytes, zeroed. */
+static size_t pad(float *vec, float *aux, uint16_t *level, int32_t *isl, int W, int H,
+                  int passes, int tangent, uint32_t *front, uint8_t *mark)
+{
+    size_t filled = 0, npix = (size_t)W * (size_t)H, nf = 0;
     for (int p = 1; p <= passes; p++) {
-        size_t this_pass = 0;
-        for (int y = 0; y < H; y++) {
-            for (int x = 0; x < W; x++) {
-                size_t k = (size_t)y * (size_t)W + (size_t)x;
-                if (level[k])
-                    continue;
-                size_t nb[8];
-                int n = 0;
-                for (int dy = -1; dy <= 1; dy++) {
+        size_t this_pass = 0, nn = 0;
+        if (p == 1) {
+            for (size_t k = 0; k < npix; k++)
+                if (!level[k] && pad_texel(vec, aux, level, isl, W, H, p, tangent, k))
+                    front[nn++] = (uint32_t)k;
+        } else {
+            /* front[0..nf) holds pass p - 1's texels; the candidates go after them */
+            size_t nc = nf;
+            for (size_t i = 0; i < nf; i++) {
+                int x = (int)(front[i] % (uint32_t)W), y = (int)(front[i] / (uint32_t)W);
+                for (int dy = -1; dy <= 1; dy++)
                     for (int dx = -1; dx <= 1; dx++) {
                         int xx = x + dx, yy = y + dy;
-                        if ((dx | dy) == 0 || xx < 0 || yy < 0 || xx >= W || yy >= H)
+                        if (xx < 0 || yy < 0 || xx >= W || yy >= H)
                             continue;
                         size_t q = (size_t)yy * (size_t)W + (size_t)xx;
-                        if (level[q] == 0 || level[q] > p)
+                        if (level[q] || mark[q] == (uint8_t)p)
                             continue;
-                        nb[n++] = q;
+                        mark[q] = (uint8_t)p;
+                        front[nc++] = (uint32_t)q;
                     }
-                }
-                if (!n)
-                    continue;
-                int32_t best = isl[nb[0]];
-                int best_count = 0;
-                for (int i = 0; i < n; i++) {
-                    int cnt = 0;
-                    for (int j2 = 0; j2 < n; j2++)
-                        cnt += isl[nb[j2]] == isl[nb[i]];
-                    if (cnt > best_count || (cnt == best_count && isl[nb[i]] < best))
-                        best = isl[nb[i]], best_count = cnt;
-                }
-                double s[3] = {0, 0, 0}, a[2] = {0, 0};
-                int na = 0;
-                for (int i = 0; i < n; i++) {
-                    if (isl[nb[i]] != best)
-                        continue;
-                    const float *v = vec + 3 * nb[i];
-                    s[0] += v[0], s[1] += v[1], s[2] += v[2];
-                    if (aux) /* --from's distance and misses: the plain mean */
-                        a[0] += aux[2 * nb[i]], a[1] += aux[2 * nb[i] + 1], na++;
-                }
-                if (aux && na)
-                    aux[2 * k] = (float)(a[0] / na), aux[2 * k + 1] = (float)(a[1] / na);
-                double l = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-                float *o = vec + 3 * k;
-                if (l > 0.0) {
-                    o[0] = (float)(s[0] / l), o[1] = (float)(s[1] / l), o[2] = (float)(s[2] / l);
-                } else {
-                    o[0] = 0.0f, o[1] = 0.0f, o[2] = tangent ? 1.0f : 0.0f;
-                }
-                level[k] = (uint16_t)(p + 1);
-                isl[k] = best;
-                this_pass++;
             }
+            /* fill them, keeping those filled at the front for the next pass */
+            for (size_t i = nf; i < nc; i++)
+                if (pad_texel(vec, aux, level, isl, W, H, p, tangent, front[i]))
+                    front[nn++] = front[i];
         }
+        this_pass = nn;
+        nf = nn;
         filled += this_pass;
         if (!this_pass)
             break; /* nothing left that touches a filled texel */
@@ -448,8 +599,9 @@ static size_t pad(float *vec, float *aux, uint16_t *level, int32_t *isl, int W, 
 
 double mesh_bake_tile_bytes(int width, int height)
 {
-    /* tri, b1, b2 (4 + 4 + 4), vec (12), level (2), multi (1), image (12), isl (4) */
-    return (double)width * (double)height * 43.0;
+    /* tri, b1, b2 (4 + 4 + 4), vec (12), level (2), multi (1), image (12), isl (4),
+     * front (4) */
+    return (double)width * (double)height * 47.0;
 }
 
 /* The UV bounding box of triangle t; false when the triangle is not usable
@@ -627,6 +779,7 @@ typedef struct bake_bufs {
     float *b1, *b2, *vec;
     uint16_t *level;
     int32_t *isl; /* the UV island of a baked or padded texel */
+    uint32_t *front; /* the padding's candidates */
     uint8_t *multi, *overlapped; /* overlapped: per island, over all tiles */
     bg_image img;
     float *aux;             /* --from: 2 floats per texel (bake_ctx.aux) */
@@ -645,9 +798,11 @@ static int bufs_alloc(bake_bufs *b, int W, int H, size_t islands, int hi)
     b->vec = malloc(npix * 3 * sizeof *b->vec);
     b->level = malloc(npix * sizeof *b->level);
     b->isl = malloc(npix * sizeof *b->isl);
+    b->front = malloc(npix * sizeof *b->front);
     b->overlapped = calloc(islands ? islands : 1, 1);
     b->multi = malloc(npix);
-    return b->tri && b->b1 && b->b2 && b->vec && b->level && b->isl && b->overlapped && b->multi &&
+    return b->tri && b->b1 && b->b2 && b->vec && b->level && b->isl && b->front && b->overlapped &&
+           b->multi &&
            bg_image_alloc(&b->img, W, H, 3) == BG_OK;
 }
 
@@ -663,6 +818,7 @@ static void bufs_free(bake_bufs *b)
     free(b->vec);
     free(b->level);
     free(b->isl);
+    free(b->front);
     free(b->multi);
     free(b->overlapped);
 }
@@ -735,7 +891,7 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
             if (b->tri[k] >= 0)
                 stats->texel_size += c->foot_all[b->tri[k]];
 
-    size_t rows = (size_t)(16384 / ((size_t)W * (size_t)c->samples * (size_t)c->samples)) + 1;
+    size_t rows = (size_t)(16384 / ((size_t)W * c->smax)) + 1;
     bgt_parallel_for((size_t)H, rows, o->threads, shade_rows, c);
     if (atomic_load(&c->oom))
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory while baking");
@@ -744,8 +900,9 @@ static bg_status bake_tile(const bg_mesh *m, const mesh_bake_opts *o, bake_ctx *
         b->isl[k] = b->tri[k] >= 0 ? (int32_t)island[b->tri[k]] : -1;
     }
     stats->covered += covered;
-    stats->padded +=
-        pad(b->vec, b->aux, b->level, b->isl, W, H, o->padding, o->space == MESH_BAKE_TANGENT);
+    memset(b->multi, 0, npix); /* the padding's marks from here on */
+    stats->padded += pad(b->vec, b->aux, b->level, b->isl, W, H, o->padding,
+                         o->space == MESH_BAKE_TANGENT, b->front, b->multi);
     encode_tile(b, npix, o->space == MESH_BAKE_TANGENT, b->img.pixels);
     if (b->aux) /* texels nothing reached: distance 0, not a miss */
         for (size_t k = 0; k < npix; k++) {
@@ -770,7 +927,7 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
                         o->samples, MESH_MAX_SAMPLES);
     /* the tile's buffers, and each worker's samples of one chunk of rows
      * (at least one row: W x N^2 samples of 10 floats) */
-    const double ns = (double)(o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES);
+    const double ns = o->samples > 0 ? (double)o->samples : sqrt((double)MESH_DENSE_SAMPLES);
     const double chunk = fmax(16384.0, (double)W * ns * ns);
     bg_status rc = bgt_check_alloc(mesh_bake_tile_bytes(W, H) +
                                        (double)(o->threads > 0 ? o->threads : 1) * chunk * 40.0 +
@@ -805,7 +962,10 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
     }
 
     float *foot = malloc((m->triangle_count ? m->triangle_count : 1) * sizeof *foot);
-    if (!foot) {
+    uint8_t *dense = malloc(m->triangle_count ? m->triangle_count : 1);
+    if (!foot || !dense) {
+        free(foot);
+        free(dense);
         free(ctan);
         free(island);
         return bgt_fail(e, BG_ERR_OUT_OF_MEMORY, "out of memory for the texel footprints");
@@ -821,9 +981,9 @@ bg_status mesh_bake(const bg_mesh *m, const float *nx, const float *ny, const fl
                   .ctan = ctan, .green_down = o->green_down,
                   .h = h, .method = o->method, .width = W, .tri = b.tri, .b1 = b.b1, .b2 = b.b2,
                   .vec = b.vec, .progress = o->progress, .height = H,
-                  .samples = o->samples > 0 ? o->samples : MESH_DEFAULT_SAMPLES,
                   .foot = o->filter == MESH_FILTER_FOOTPRINT && !h->grid ? foot : NULL,
                   .foot_all = foot, .hi = o->hi, .aux = b.aux};
+    sample_patterns(&c, o, foot, dense);
     atomic_init(&c.oom, 0);
     atomic_init(&c.done, 0);
     atomic_init(&c.rays, 0);
@@ -865,6 +1025,7 @@ done:
     bgt_progress_end(o->progress);
     bufs_free(&b);
     free(foot);
+    free(dense);
     free(ctan);
     free(island);
     return rc;
