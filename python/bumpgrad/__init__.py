@@ -809,6 +809,8 @@ surfgrad_triplanard = _alias("surfgrad_triplanar", surfgrad_triplanar)
 _SPACES = {"tangent": 0, "object": 1}
 _TANGENTS = {"mikktspace": 0, "file": 1}
 _Y = {"+y": 0, "-y": 1}
+_FILTERS = {"footprint": 0, "none": 1}
+_UNITS = {"model": 0, "file": 1}
 _DEPTHS = {None: -1, 8: 0, 16: 1, "half": 2, "float": 3}
 
 
@@ -1030,7 +1032,8 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
                     frequency=1.0, gradient="analytic", step=DEFAULT_CENTRAL_STEP,
                     method="surfgrad", space="tangent", padding=16, tangents="mikktspace",
                     normal_map_y="+y", recompute_normals=False, depth=None, udim=False,
-                    period=None, seed=0, threads=None, progress=None, tile=None):
+                    period=None, seed=0, threads=None, progress=None, tile=None,
+                    samples=None, filter="footprint", units="model"):
     """Bake the normal map of a mesh bumped by a solid height field: the tool
     behind ``bumpgrad mesh --bake-normal-map`` (bgt_mesh_run), with the CLI's
     options as keyword arguments (docs/MESH.md).
@@ -1047,6 +1050,13 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     space      'tangent' (mikkTSpace frame) or 'object'; tangents 'mikktspace' or
                'file'; normal_map_y '+y' (OpenGL, glTF) or '-y' (DirectX).
     padding    dilate into empty texels this many times (integer >= 0; 16, as the CLI).
+    samples    None: the default anti-aliasing (2 x 2 points per texel, 7 where an
+               octave is finer than 4 texels); N (1..16): N x N points per texel
+               (``--samples``; docs/MESH.md, "Anti-aliasing").
+    filter     'footprint' (octaves finer than a texel fade out) or 'none'
+               (every octave at each point), as ``--filter``.
+    units      'model' (frequency and amplitude per model radius) or 'file' (the
+               file's own units), as ``--units``.
     depth      None (the tool's default for the file type), 8, 16, 'half' or 'float'.
     threads    worker threads (default: all cores).
     tile       None, or one UDIM number (1001..1999) with udim=True or a path
@@ -1075,6 +1085,9 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     tg = _choice("tangents", tangents, _TANGENTS)
     gy = _choice("normal_map_y", normal_map_y, _Y)
     padding = _int_arg("padding", padding, 0, 4096)
+    ns = 0 if samples is None else _int_arg("samples", samples, 1, 16)
+    flt = _choice("filter", filter, _FILTERS)
+    un = _choice("units", units, _UNITS)
     dp = _choice("depth", depth, _DEPTHS)
     dom = _domain(period, seed)
     _domain_fits(dom[0], octaves, float(_np.float32(lacunarity)))
@@ -1089,7 +1102,8 @@ def bake_normal_map(mesh_path, size, path=None, *, function="turbulence",
     def run(target, depth_code):
         return _c.mesh_bake(mesh_path, target, w, h, fn, octaves, lacunarity, gain, amplitude,
                             frequency, step, grad, m, sp, padding, tg, gy,
-                            int(bool(recompute_normals)), depth_code, nt, progress, *dom, only)
+                            int(bool(recompute_normals)), depth_code, nt, progress, *dom, only,
+                            ns, flt, un)
 
     if path is not None:
         return run(_os.fsdecode(path), dp)[4]

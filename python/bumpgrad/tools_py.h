@@ -170,7 +170,8 @@ static int call_tool(tool_run run, const void *opts, void *result, PyObject *cb,
 
 /* mesh_bake(input, path, width, height, function, octaves, lacunarity, gain, amplitude,
  *           frequency, gradient, step, method, space, padding, tangents, green_down,
- *           recompute_normals, depth, threads, progress|None, (px, py, pz), seed)
+ *           recompute_normals, depth, threads, progress|None, (px, py, pz), seed
+ *           [, only_tile, samples, filter, units]) (0 each: the defaults)
  * -> (covered, padded, skipped, islands, [udim tiles]) */
 static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
 {
@@ -180,13 +181,13 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     int recompute, depth, threads;
     float lac, gain, amp, freq, step;
     PyObject *cb;
-    int only_tile = 0;
+    int only_tile = 0, samples = 0, filter = 0, units = 0;
     bg_domain dom = {{0, 0, 0}, 0};
-    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO(iii)I|i", &input, &path, &width, &height,
+    if (!PyArg_ParseTuple(args, "ssiiiifffffiiiiiiiiiO(iii)I|iiii", &input, &path, &width, &height,
                           &function, &octaves, &lac, &gain, &amp, &freq, &step, &gradient,
                           &method, &space, &padding, &tangents, &green_down, &recompute, &depth,
                           &threads, &cb, &dom.period[0], &dom.period[1], &dom.period[2],
-                          &dom.seed, &only_tile))
+                          &dom.seed, &only_tile, &samples, &filter, &units))
         return NULL;
     bgt_height h;
     height_from_args(&h, function, octaves, lac, gain, amp, freq, gradient, step, dom);
@@ -206,6 +207,9 @@ static PyObject *py_mesh_bake(PyObject *self, PyObject *args)
     o.bake.tangents = (mesh_tangent_source)tangents;
     o.bake.green_down = green_down;
     o.bake.only_tile = only_tile;
+    o.bake.samples = samples;
+    o.bake.filter = (mesh_bake_filter)filter;
+    o.units = units;
     o.bake_depth = depth;
     bgt_mesh_result r;
     if (call_tool(run_mesh, &o, &r, cb, &o.progress))

@@ -76,6 +76,9 @@ def main():
              ["--normal-map-y", "-y", "--method", "additive", "--threads", "1"]),
             (dict(function="fbm", frequency=4.0, period=(4, 4, 2), seed=5),
              ["--function", "fbm", "--frequency", "4", "--period", "4,4,2", "--seed", "5"]),
+            (dict(samples=1, filter="none"), ["--samples", "1", "--filter", "none"]),
+            (dict(samples=3, units="file", frequency=2.0),
+             ["--samples", "3", "--units", "file", "--frequency", "2"]),
         ]
         for kw, args in cases:
             out = os.path.join(tmp, "cli.tif")
@@ -218,7 +221,8 @@ def main():
             check(False, "a mesh without UVs did not raise")
         except bumpgrad.Error as e:
             print(f"no UVs: bumpgrad.Error: {e}")
-        for kw in (dict(size=0), dict(size=2.5), dict(padding=-1), dict(space="uv")):
+        for kw in (dict(size=0), dict(size=2.5), dict(padding=-1), dict(space="uv"),
+                   dict(samples=0), dict(samples=17), dict(filter="box"), dict(units="cm")):
             args = dict(size=16)
             args.update(kw)
             try:
