@@ -91,7 +91,7 @@ static const cli_opt bench_opts[] = {
              "the same arrays: the memory traffic of the noise3 row with no work, its floor), "
              "pnoise3, pnoise3_grad, pfbm3, pfbm3_grad (tileable noise and 6-octave fBm, "
              "periods 16,16,16), fbm3_seed_grad (fBm with seed 1), pfbm3_grad_xy (periods "
-             "16,16,0), "
+             "16,16,0), pfbm3_grad_p10 (periods 10,10,10, not a power of two), "
              "ours (all of the above), peers, peer:<library>, "
              "peer:<library>:<value|fbm|grad_central> (libraries: stb_perlin, libnoise, glm); "
              "only when named: mikktspace (mikkTSpace tangents of a 1,002,528-triangle UV "

@@ -50,6 +50,7 @@ enum {
     K_PFBM3_GRAD,
     K_SFBM3_GRAD,
     K_PFBM3_GRAD_XY, /* periods (16, 16, 0): a tileable texture's x and y */
+    K_PFBM3_GRAD_P10, /* periods (10, 10, 10): not a power of two (the float reduction) */
     /* The mesh rows (mesh_rows.c): whole calls on a generated mesh, threaded
      * inside, measured once; selected only by name (not by "all" or "ours"). */
     K_MIKK,      /* mikkTSpace tangents: samples are triangles */
