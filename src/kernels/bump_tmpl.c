@@ -436,10 +436,14 @@ BG_INLINE vhash vi_hashp_pow2(vi cx, vi cy, vi cz, vi mx, vi my, vi mz, int zsea
  * |q| >= 2^31, outside): it admits floor(q) = -2^22 too, where lattice_per is
  * exact for a power-of-two P (fl + 1/2 and its product with 1/P are exact),
  * so the cells are the same either way. */
-BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c)
+BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c, int zseam)
 {
     vf flx = vf_floor(qx), fly = vf_floor(qy), flz = vf_floor(qz);
-#ifdef BG_HAVE_HASHP_POW2
+#ifdef BG_HAVE_SMALL22
+    if (!vf_small22(flx, fly, flz))
+        return 0;
+    vi cx = vi_from_vf(flx), cy = vi_from_vf(fly), cz = vi_from_vf(flz);
+#elif defined(BG_HAVE_HASHP_POW2)
     vi cx = vi_from_vf(flx), cy = vi_from_vf(fly), cz = vi_from_vf(flz);
     if (!vi_small22(cx, cy, cz))
         return 0;
@@ -452,7 +456,7 @@ BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c
 #endif
     vi mx = vi_set1(L->mask[i][0]), my = vi_set1(L->mask[i][1]), mz = vi_set1(L->mask[i][2]);
     c->fx = vf_sub(qx, flx), c->fy = vf_sub(qy, fly), c->fz = vf_sub(qz, flz);
-    c->h = vi_hashp_pow2(cx, cy, cz, mx, my, mz, L->zseam[i]);
+    c->h = vi_hashp_pow2(cx, cy, cz, mx, my, mz, zseam);
     return 1;
 }
 
@@ -463,7 +467,7 @@ BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c
  * which leaves the loop without the tests. */
 #define OCT_RUNTIME (-1)
 BG_INLINE vcell octave_cell_k(const octlat *L, int i, vf x, vf y, vf z, bg_real freq, int kind,
-                              int seeded)
+                              int seeded, int zseam)
 {
     vf fq = vf_set1(freq);
     vf qx = vf_mul(x, fq), qy = vf_mul(y, fq), qz = vf_mul(z, fq);
@@ -482,17 +486,19 @@ BG_INLINE vcell octave_cell_k(const octlat *L, int i, vf x, vf y, vf z, bg_real 
         return noise_cell(qx, qy, qz);
     vi X, Y, Z, X1, Y1, Z1;
     vcell c;
-    if (kind == OCT_POW2 && lattice_pow2(L, i, qx, qy, qz, &c))
+    if (zseam < 0)
+        zseam = L->zseam[i];
+    if (kind == OCT_POW2 && lattice_pow2(L, i, qx, qy, qz, &c, zseam))
         return c;
     c.fx = lattice_per(qx, L->per[i][0], L->inv[i][0], &X, &X1);
     c.fy = lattice_per(qy, L->per[i][1], L->inv[i][1], &Y, &Y1);
     c.fz = lattice_per(qz, L->per[i][2], L->inv[i][2], &Z, &Z1);
-    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1, L->zseam[i]);
+    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1, zseam);
     return c;
 }
 BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real freq)
 {
-    return octave_cell_k(L, i, x, y, z, freq, OCT_RUNTIME, -1);
+    return octave_cell_k(L, i, x, y, z, freq, OCT_RUNTIME, -1, -1);
 }
 
 /* The gradient only when `want_grad` (a constant after inlining, so the
@@ -961,36 +967,41 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
  * fractal loop in the same body (AVX2 pnoise3_grad 84 -> 79 instructions per
  * sample). */
 #define BG_CELL_DOM(p) octave_cell_k(&L, 0, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES), \
-                                     vf_loadn(z + (p), LANES), 1, kind_, seeded_)
+                                     vf_loadn(z + (p), LANES), 1, kind_, seeded_, zs_)
 #define BG_DNOISE_REST(i0, n, want_grad, STORE)                                                 \
     BG_FOR_BATCH_FROM(i, c, i0, n)                                                             \
     {                                                                                          \
         corner r = noise_at(octave_cell_k(&L, 0, vf_loadn(x + i, c), vf_loadn(y + i, c),       \
-                                          vf_loadn(z + i, c), 1, kind_, seeded_),              \
+                                          vf_loadn(z + i, c), 1, kind_, seeded_, zs_),         \
                             want_grad);                                                        \
         STORE;                                                                                 \
     }                                                                                          \
     i0 = n
-/* The periodic noise loop LOOP(kind_, seeded_) once per kind of the octave's
- * lattice and whether it is seeded, so that each loop body has no test of
- * either (octave_cell_k). */
+/* The periodic noise loop LOOP(kind_, seeded_, zs_) once per kind of the
+ * octave's lattice and whether it is seeded, and unseeded with zseam 2 (small
+ * z periods) apart, so that each loop body has no test of them
+ * (octave_cell_k; -1: read from L). */
 #define BG_DNOISE_KIND(LOOP)                                                                   \
     do {                                                                                       \
         int k_ = L.tiled ? L.kind[0] : OCT_PLAIN;                                              \
         if (L.seeded) {                                                                        \
             if (k_ == OCT_PLAIN) {                                                             \
-                LOOP(OCT_PLAIN, 1);                                                            \
+                LOOP(OCT_PLAIN, 1, -1);                                                        \
             } else if (k_ == OCT_POW2) {                                                       \
-                LOOP(OCT_POW2, 1);                                                             \
+                LOOP(OCT_POW2, 1, -1);                                                         \
             } else {                                                                           \
-                LOOP(OCT_ANY, 1);                                                              \
+                LOOP(OCT_ANY, 1, -1);                                                          \
             }                                                                                  \
         } else if (k_ == OCT_PLAIN) {                                                          \
-            LOOP(OCT_PLAIN, 0);                                                                \
+            LOOP(OCT_PLAIN, 0, -1);                                                            \
+        } else if (k_ == OCT_POW2 && L.zseam[0] == 2) {                                        \
+            LOOP(OCT_POW2, 0, 2);                                                              \
         } else if (k_ == OCT_POW2) {                                                           \
-            LOOP(OCT_POW2, 0);                                                                 \
+            LOOP(OCT_POW2, 0, -1);                                                             \
+        } else if (L.zseam[0] == 2) {                                                          \
+            LOOP(OCT_ANY, 0, 2);                                                               \
         } else {                                                                               \
-            LOOP(OCT_ANY, 0);                                                                  \
+            LOOP(OCT_ANY, 0, -1);                                                              \
         }                                                                                      \
     } while (0)
 void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real *x,
@@ -1002,9 +1013,9 @@ void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real 
     size_t i0 = 0;
     if (f->function == BG_FUNC_NOISE) {
 #define DNOISE_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
-#define DNOISE_GRAD_LOOP(kind, seeded)                                                         \
+#define DNOISE_GRAD_LOOP(kind, seeded, zs)                                                     \
     {                                                                                          \
-        const int kind_ = kind, seeded_ = seeded;                                              \
+        const int kind_ = kind, seeded_ = seeded, zs_ = zs;                                    \
         BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)                   \
         BG_DNOISE_REST(i0, BG_VEC_N(n), 1, store_corner(r, i, c, v, gx, gy, gz));              \
     }
@@ -1036,9 +1047,9 @@ void KFN(dfractal3)(const bg_fractal *f, const bg_domain *d, const bg_real *x, c
     size_t i0 = 0;
     if (f->function == BG_FUNC_NOISE) {
 #define DNOISE_AT(cell, p) store_out(v + (p), noise_at(cell, 0).v, LANES)
-#define DNOISE_LOOP(kind, seeded)                                                              \
+#define DNOISE_LOOP(kind, seeded, zs)                                                          \
     {                                                                                          \
-        const int kind_ = kind, seeded_ = seeded;                                              \
+        const int kind_ = kind, seeded_ = seeded, zs_ = zs;                                    \
         BG_PIPELINED_CELL(i0, BG_VEC_N(n), DNOISE_AT, BG_CELL_DOM)                             \
         BG_DNOISE_REST(i0, BG_VEC_N(n), 0, store_out(v + i, r.v, c));                          \
     }
