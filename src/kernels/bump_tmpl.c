@@ -460,6 +460,31 @@ BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c
     return 1;
 }
 
+#ifdef BG_HAVE_SMALL22
+/* OCT_ANY's cells where every |floor(q)| < 2^22 (vf_small22), the range where
+ * lattice_per's r is exact and in [0, P): r by the same quotient with the
+ * exact product q P fused (the same r), converted once; the next corner r + 1,
+ * or 0 where r = P - 1, in integers (vi_wrap1). Both are used modulo 256 by
+ * vi_hashp_per, which reads their low bytes only (vec_avx512.h VBMI). */
+BG_INLINE int lattice_any_small(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c, int zseam)
+{
+    vf fl[3] = {vf_floor(qx), vf_floor(qy), vf_floor(qz)}, q[3] = {qx, qy, qz}, fr[3];
+    vi X[3], X1[3];
+    if (!vf_small22(fl[0], fl[1], fl[2]))
+        return 0;
+    for (int a = 0; a < 3; a++) {
+        bg_real P = L->per[i][a];
+        vf qq = vf_floor(vf_mul(vf_add(fl[a], vf_set1((bg_real)0.5)), vf_set1(L->inv[i][a])));
+        X[a] = vi_from_vf(vf_fma_exact(qq, vf_set1(-P), fl[a]));
+        X1[a] = vi_wrap1(X[a], (int32_t)P - 1);
+        fr[a] = vf_sub(q[a], fl[a]);
+    }
+    c->fx = fr[0], c->fy = fr[1], c->fz = fr[2];
+    c->h = vi_hashp_per(X[0], X[1], X[2], X1[0], X1[1], X1[2], zseam);
+    return 1;
+}
+#endif
+
 /* Octave i's cell at freq * p (+ its offset, wrapped, with a domain L; the
  * plain cell for L = NULL, a constant after inlining). `kind` is L->kind[i]
  * or, where the caller has tested it once for a whole batch (the periodic
@@ -490,6 +515,10 @@ BG_INLINE vcell octave_cell_k(const octlat *L, int i, vf x, vf y, vf z, bg_real 
         zseam = L->zseam[i];
     if (kind == OCT_POW2 && lattice_pow2(L, i, qx, qy, qz, &c, zseam))
         return c;
+#ifdef BG_HAVE_SMALL22
+    if (kind == OCT_ANY && lattice_any_small(L, i, qx, qy, qz, &c, zseam))
+        return c;
+#endif
     c.fx = lattice_per(qx, L->per[i][0], L->inv[i][0], &X, &X1);
     c.fy = lattice_per(qy, L->per[i][1], L->inv[i][1], &Y, &Y1);
     c.fz = lattice_per(qz, L->per[i][2], L->inv[i][2], &Z, &Z1);

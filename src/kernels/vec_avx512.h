@@ -184,6 +184,11 @@ static inline vhash vi_hashp_pow2(vi cx, vi cy, vi cz, vi mx, vi my, vi mz, int 
         h = bg_hashp_hi(h, bg_perm_bytes(pa), k);
     return h;
 }
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c lattice_any_small). */
+static inline vi vi_wrap1(vi r, int32_t pm1)
+{
+    return _mm512_maskz_add_epi32(_mm512_cmpneq_epi32_mask(r, _mm512_set1_epi32(pm1)), r, _mm512_set1_epi32(1));
+}
 /* Every |fl| < 2^22 (bump_tmpl.c lattice_pow2; false for NaN): vrangeps
  * 0x0b is max(|a|, |b|) (NaN if either is). */
 #define BG_HAVE_SMALL22 1
