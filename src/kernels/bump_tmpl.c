@@ -425,50 +425,120 @@ static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *
     }
 }
 
+/* OCT_POW2's hashes from the unreduced cells c = floor(q) (vi_from_vf): the
+ * corners (c AND (P - 1), (c + 1) AND (P - 1)) per axis, m = P - 1. A
+ * vocabulary that runs the chain in bytes (vec_avx512.h VBMI, vec_avx2.h) takes
+ * the masks there, where one byte AND per axis wraps both corners, and tests
+ * the range on the integer cells (vi_small22); the others form the corners
+ * here and run vi_hashp_per. */
+#ifndef BG_HAVE_HASHP_POW2
+BG_INLINE vhash vi_hashp_pow2(vi cx, vi cy, vi cz, vi mx, vi my, vi mz, int zseam)
+{
+    vi one = vi_set1(1);
+    return vi_hashp_per(vi_and(cx, mx), vi_and(cy, my), vi_and(cz, mz), vi_and(vi_add(cx, one), mx),
+                        vi_and(vi_add(cy, one), my), vi_and(vi_add(cz, one), mz), zseam);
+}
+#endif
+
 /* OCT_POW2's cells (octlat): 1 if every |floor(q)| < 2^22 (false for NaN), and
- * then the fractions and the cells of both corners per axis. */
-BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c)
+ * then the fractions and the cells of both corners per axis. With
+ * BG_HAVE_HASHP_POW2 the test is vi_small22 on the converted cells (every
+ * floor(q) in [-2^22, 2^22); vi_from_vf gives INT32_MIN for NaN, Inf and
+ * |q| >= 2^31, outside): it admits floor(q) = -2^22 too, where lattice_per is
+ * exact for a power-of-two P (fl + 1/2 and its product with 1/P are exact),
+ * so the cells are the same either way. */
+BG_INLINE int lattice_pow2(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c, int zseam)
 {
     vf flx = vf_floor(qx), fly = vf_floor(qy), flz = vf_floor(qz);
+#ifdef BG_HAVE_SMALL22
+    if (!vf_small22(flx, fly, flz))
+        return 0;
+    vi cx = vi_from_vf(flx), cy = vi_from_vf(fly), cz = vi_from_vf(flz);
+#elif defined(BG_HAVE_HASHP_POW2)
+    vi cx = vi_from_vf(flx), cy = vi_from_vf(fly), cz = vi_from_vf(flz);
+    if (!vi_small22(cx, cy, cz))
+        return 0;
+#else
     vf lim = vf_set1((bg_real)4194304);
     if (!vm_all(vm_and(vm_and(vf_lt(vf_abs(flx), lim), vf_lt(vf_abs(fly), lim)),
                        vf_lt(vf_abs(flz), lim))))
         return 0;
-    vi one = vi_set1(1);
     vi cx = vi_from_vf(flx), cy = vi_from_vf(fly), cz = vi_from_vf(flz);
+#endif
     vi mx = vi_set1(L->mask[i][0]), my = vi_set1(L->mask[i][1]), mz = vi_set1(L->mask[i][2]);
     c->fx = vf_sub(qx, flx), c->fy = vf_sub(qy, fly), c->fz = vf_sub(qz, flz);
-    c->h = vi_hashp_per(vi_and(cx, mx), vi_and(cy, my), vi_and(cz, mz), vi_and(vi_add(cx, one), mx),
-                        vi_and(vi_add(cy, one), my), vi_and(vi_add(cz, one), mz), L->zseam[i]);
+    c->h = vi_hashp_pow2(cx, cy, cz, mx, my, mz, zseam);
     return 1;
 }
 
+#ifdef BG_HAVE_SMALL22
+/* OCT_ANY's cells where every |floor(q)| < 2^22 (vf_small22), the range where
+ * lattice_per's r is exact and in [0, P): r by the same quotient with the
+ * exact product q P fused (the same r), converted once; the next corner r + 1,
+ * or 0 where r = P - 1, in integers (vi_wrap1). Both are used modulo 256 by
+ * vi_hashp_per, which reads their low bytes only (vec_avx512.h VBMI). */
+BG_INLINE int lattice_any_small(const octlat *L, int i, vf qx, vf qy, vf qz, vcell *c, int zseam)
+{
+    vf fl[3] = {vf_floor(qx), vf_floor(qy), vf_floor(qz)}, q[3] = {qx, qy, qz}, fr[3];
+    vi X[3], X1[3];
+    if (!vf_small22(fl[0], fl[1], fl[2]))
+        return 0;
+    for (int a = 0; a < 3; a++) {
+        bg_real P = L->per[i][a];
+        vf qq = vf_floor(vf_mul(vf_add(fl[a], vf_set1((bg_real)0.5)), vf_set1(L->inv[i][a])));
+        X[a] = vi_from_vf(vf_fma_exact(qq, vf_set1(-P), fl[a]));
+        X1[a] = vi_wrap1(X[a], (int32_t)P - 1);
+        fr[a] = vf_sub(q[a], fl[a]);
+    }
+    c->fx = fr[0], c->fy = fr[1], c->fz = fr[2];
+    c->h = vi_hashp_per(X[0], X[1], X[2], X1[0], X1[1], X1[2], zseam);
+    return 1;
+}
+#endif
+
 /* Octave i's cell at freq * p (+ its offset, wrapped, with a domain L; the
- * plain cell for L = NULL, a constant after inlining). */
-BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real freq)
+ * plain cell for L = NULL, a constant after inlining). `kind` is L->kind[i]
+ * or, where the caller has tested it once for a whole batch (the periodic
+ * noise loops, BG_DNOISE_KIND), that kind as a constant (seeded likewise),
+ * which leaves the loop without the tests. */
+#define OCT_RUNTIME (-1)
+BG_INLINE vcell octave_cell_k(const octlat *L, int i, vf x, vf y, vf z, bg_real freq, int kind,
+                              int seeded, int zseam)
 {
     vf fq = vf_set1(freq);
     vf qx = vf_mul(x, fq), qy = vf_mul(y, fq), qz = vf_mul(z, fq);
     if (!L)
         return noise_cell(qx, qy, qz);
-    if (L->seeded) {
+    if (seeded < 0 ? L->seeded : seeded) {
         qx = vf_add(qx, vf_set1(L->off[i][0]));
         qy = vf_add(qy, vf_set1(L->off[i][1]));
         qz = vf_add(qz, vf_set1(L->off[i][2]));
     }
+    if (kind == OCT_RUNTIME)
+        kind = L->tiled ? L->kind[i] : OCT_PLAIN;
     /* periods 256 (or powers of two above): the plain cells, the same bits at
      * less cost */
-    if (!L->tiled || L->kind[i] == OCT_PLAIN)
+    if (kind == OCT_PLAIN)
         return noise_cell(qx, qy, qz);
     vi X, Y, Z, X1, Y1, Z1;
     vcell c;
-    if (L->kind[i] == OCT_POW2 && lattice_pow2(L, i, qx, qy, qz, &c))
+    if (zseam < 0)
+        zseam = L->zseam[i];
+    if (kind == OCT_POW2 && lattice_pow2(L, i, qx, qy, qz, &c, zseam))
         return c;
+#ifdef BG_HAVE_SMALL22
+    if (kind == OCT_ANY && lattice_any_small(L, i, qx, qy, qz, &c, zseam))
+        return c;
+#endif
     c.fx = lattice_per(qx, L->per[i][0], L->inv[i][0], &X, &X1);
     c.fy = lattice_per(qy, L->per[i][1], L->inv[i][1], &Y, &Y1);
     c.fz = lattice_per(qz, L->per[i][2], L->inv[i][2], &Z, &Z1);
-    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1, L->zseam[i]);
+    c.h = vi_hashp_per(X, Y, Z, X1, Y1, Z1, zseam);
     return c;
+}
+BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real freq)
+{
+    return octave_cell_k(L, i, x, y, z, freq, OCT_RUNTIME, -1, -1);
 }
 
 /* The gradient only when `want_grad` (a constant after inlining, so the
@@ -944,17 +1014,44 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
  * noise_at, the operations of fractal_vec_l for one octave, without the
  * fractal loop in the same body (AVX2 pnoise3_grad 84 -> 79 instructions per
  * sample). */
-#define BG_CELL_DOM(p) octave_cell(&L, 0, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES),     \
-                                   vf_loadn(z + (p), LANES), 1)
+#define BG_CELL_DOM(p) octave_cell_k(&L, 0, vf_loadn(x + (p), LANES), vf_loadn(y + (p), LANES), \
+                                     vf_loadn(z + (p), LANES), 1, kind_, seeded_, zs_)
 #define BG_DNOISE_REST(i0, n, want_grad, STORE)                                                 \
     BG_FOR_BATCH_FROM(i, c, i0, n)                                                             \
     {                                                                                          \
-        corner r = noise_at(octave_cell(&L, 0, vf_loadn(x + i, c), vf_loadn(y + i, c),         \
-                                        vf_loadn(z + i, c), 1),                                \
+        corner r = noise_at(octave_cell_k(&L, 0, vf_loadn(x + i, c), vf_loadn(y + i, c),       \
+                                          vf_loadn(z + i, c), 1, kind_, seeded_, zs_),         \
                             want_grad);                                                        \
         STORE;                                                                                 \
     }                                                                                          \
     i0 = n
+/* The periodic noise loop LOOP(kind_, seeded_, zs_) once per kind of the
+ * octave's lattice and whether it is seeded, and unseeded with zseam 2 (small
+ * z periods) apart, so that each loop body has no test of them
+ * (octave_cell_k; -1: read from L). */
+#define BG_DNOISE_KIND(LOOP)                                                                   \
+    do {                                                                                       \
+        int k_ = L.tiled ? L.kind[0] : OCT_PLAIN;                                              \
+        if (L.seeded) {                                                                        \
+            if (k_ == OCT_PLAIN) {                                                             \
+                LOOP(OCT_PLAIN, 1, -1);                                                        \
+            } else if (k_ == OCT_POW2) {                                                       \
+                LOOP(OCT_POW2, 1, -1);                                                         \
+            } else {                                                                           \
+                LOOP(OCT_ANY, 1, -1);                                                          \
+            }                                                                                  \
+        } else if (k_ == OCT_PLAIN) {                                                          \
+            LOOP(OCT_PLAIN, 0, -1);                                                            \
+        } else if (k_ == OCT_POW2 && L.zseam[0] == 2) {                                        \
+            LOOP(OCT_POW2, 0, 2);                                                              \
+        } else if (k_ == OCT_POW2) {                                                           \
+            LOOP(OCT_POW2, 0, -1);                                                             \
+        } else if (L.zseam[0] == 2) {                                                          \
+            LOOP(OCT_ANY, 0, 2);                                                               \
+        } else {                                                                               \
+            LOOP(OCT_ANY, 0, -1);                                                              \
+        }                                                                                      \
+    } while (0)
 void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real *x,
                          const bg_real *y, const bg_real *z, size_t n, bg_real *v, bg_real *gx,
                          bg_real *gy, bg_real *gz)
@@ -964,9 +1061,15 @@ void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real 
     size_t i0 = 0;
     if (f->function == BG_FUNC_NOISE) {
 #define DNOISE_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
-        BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)
+#define DNOISE_GRAD_LOOP(kind, seeded, zs)                                                     \
+    {                                                                                          \
+        const int kind_ = kind, seeded_ = seeded, zs_ = zs;                                    \
+        BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)                   \
+        BG_DNOISE_REST(i0, BG_VEC_N(n), 1, store_corner(r, i, c, v, gx, gy, gz));              \
+    }
+        BG_DNOISE_KIND(DNOISE_GRAD_LOOP);
+#undef DNOISE_GRAD_LOOP
 #undef DNOISE_GRAD_AT
-        BG_DNOISE_REST(i0, BG_VEC_N(n), 1, store_corner(r, i, c, v, gx, gy, gz));
     }
     BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
     {
@@ -992,9 +1095,15 @@ void KFN(dfractal3)(const bg_fractal *f, const bg_domain *d, const bg_real *x, c
     size_t i0 = 0;
     if (f->function == BG_FUNC_NOISE) {
 #define DNOISE_AT(cell, p) store_out(v + (p), noise_at(cell, 0).v, LANES)
-        BG_PIPELINED_CELL(i0, BG_VEC_N(n), DNOISE_AT, BG_CELL_DOM)
+#define DNOISE_LOOP(kind, seeded, zs)                                                          \
+    {                                                                                          \
+        const int kind_ = kind, seeded_ = seeded, zs_ = zs;                                    \
+        BG_PIPELINED_CELL(i0, BG_VEC_N(n), DNOISE_AT, BG_CELL_DOM)                             \
+        BG_DNOISE_REST(i0, BG_VEC_N(n), 0, store_out(v + i, r.v, c));                          \
+    }
+        BG_DNOISE_KIND(DNOISE_LOOP);
+#undef DNOISE_LOOP
 #undef DNOISE_AT
-        BG_DNOISE_REST(i0, BG_VEC_N(n), 0, store_out(v + i, r.v, c));
     }
     BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
     {

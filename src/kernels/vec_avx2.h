@@ -219,36 +219,62 @@ BG_VEC_INLINE vhash vi_hashp(vi X, vi Y, vi Z) { return bg_perm_bytes_of(bg_perm
  * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
 static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l, 4 * bg_corner_nib[k]); }
-/* The periodic chain (bump_tmpl.c octave_cell; vec_avx512.h explains it): the
- * first step by the pair gather, whose p[X+1] is p[X1] except at the seam,
- * where X1 = 0; the second with the byte difference Y1 - Y for the "+1"; the
- * last looks up the z and z + 1 corners' codes separately (the low nibble of
- * bg_perm_code2 is p[i]'s code) and packs them as vi_hashp does. zseam as
- * in vec_avx512.h, but the separate lookup (about 35 instructions) is always
- * behind the test: with 8 lanes it is needed less often. */
-BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
+/* The periodic chain (bump_tmpl.c octave_cell; vec_avx512.h explains the
+ * byte patterns): the x step by the pair gather, (p[X], p[X+1]) spread to
+ * (p[X], p[X], p[X+1], p[X+1]), whose p[X+1] is p[X1] except where X1 = 0
+ * (there p[0] is put in); the second step adds (Y, Y1, Y, Y1); the last looks
+ * up the z and z + 1 corners' codes separately where a lane is on the z seam
+ * (the low nibble of bg_perm_code2 is p[i]'s code) and packs them as vi_hashp
+ * does. zseam as in vec_avx512.h, but the separate lookup (about 35
+ * instructions) is always behind the test: with 8 lanes it is needed less
+ * often. x0: the lanes where X1 = 0 (all ones); zb, zb1: Z and Z1 in every
+ * byte; seam: some lane on the seam. */
+BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i zb1, int zseam,
+                                   int seam)
 {
-    const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
-    const __m256i b01 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
-    const __m256i m8 = _mm256_set1_epi32(255), lo4 = _mm256_set1_epi8(15);
-    __m256i q = _mm256_i32gather_epi32(bg_perm_pair, X, 4);
-    __m256i p1 = _mm256_and_si256(_mm256_srli_epi32(q, 8), m8);
-    p1 = _mm256_blendv_epi8(p1, _mm256_set1_epi32(bg_perm256_u8[0]), _mm256_cmpeq_epi32(X1, _mm256_setzero_si256()));
-    __m256i pair = _mm256_or_si256(_mm256_and_si256(q, m8), _mm256_slli_epi32(p1, 8));
-    __m256i yb = _mm256_shuffle_epi8(Y, b0), zb = _mm256_shuffle_epi8(Z, b0);
-    __m256i dyb = _mm256_and_si256(_mm256_shuffle_epi8(_mm256_sub_epi32(Y1, Y), b0), _mm256_set1_epi32((int)0xff00ff00u));
-    __m256i dzb = _mm256_shuffle_epi8(_mm256_sub_epi32(Z1, Z), b0);
-    __m256i ab = _mm256_add_epi8(_mm256_shuffle_epi8(pair, _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13))), yb);
-    __m256i i2 = _mm256_add_epi8(_mm256_shuffle_epi8(ab, b01), dyb);
-    __m256i hz = _mm256_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
-    /* Off the z seam the pair table gives both corners (vec_avx512.h). */
-    __m256i h = bg_perm_bytes_of(bg_perm_code2, hz);
-    __m256i zn = _mm256_and_si256(_mm256_add_epi32(Z, _mm256_set1_epi32(1)), m8);
-    if (zseam && _mm256_movemask_epi8(_mm256_cmpeq_epi32(Z1, zn)) != -1) {
-        __m256i hi = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(hz, dzb)), lo4);
+    const __m256i p0011 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
+    __m256i q = _mm256_shuffle_epi8(_mm256_i32gather_epi32(bg_perm_pair, Xc, 4), p0011);
+    q = _mm256_blendv_epi8(q, _mm256_set1_epi32((int)((uint32_t)bg_perm256_u8[0] * 0x01010000u)),
+                           _mm256_and_si256(x0, _mm256_set1_epi32((int)0xffff0000u)));
+    __m256i pa = bg_perm_bytes(_mm256_add_epi8(q, yy));
+    __m256i h = bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(pa, zb));
+    if (zseam && seam) {
+        const __m256i lo4 = _mm256_set1_epi8(15);
+        __m256i hi = _mm256_and_si256(bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(pa, zb1)), lo4);
         h = _mm256_or_si256(_mm256_and_si256(h, lo4), _mm256_slli_epi16(hi, 4));
     }
     return h;
+}
+/* From cells given wrapped (X1 = X + 1, or 0 at the seam; lattice_per). */
+BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
+{
+    const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    const __m256i p0101 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 1, 0, 1, 4, 5, 4, 5, 8, 9, 8, 9, 12, 13, 12, 13));
+    __m256i yy = _mm256_shuffle_epi8(_mm256_or_si256(Y, _mm256_slli_epi32(Y1, 8)), p0101);
+    __m256i zb = _mm256_shuffle_epi8(Z, b0), zb1 = _mm256_shuffle_epi8(Z1, b0);
+    int seam = zseam && _mm256_movemask_epi8(_mm256_cmpeq_epi8(zb1, _mm256_add_epi8(zb, _mm256_set1_epi8(1)))) != -1;
+    return bg_hashp_bytes(X, _mm256_cmpeq_epi32(X1, _mm256_setzero_si256()), yy, zb, zb1, zseam, seam);
+}
+/* From unreduced cells and masks P - 1 (bump_tmpl.c vi_hashp_pow2). */
+#define BG_HAVE_HASHP_POW2 1
+BG_VEC_INLINE vhash vi_hashp_pow2(vi cx, vi cy, vi cz, vi mx, vi my, vi mz, int zseam)
+{
+    const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    __m256i myb = _mm256_shuffle_epi8(my, b0), mzb = _mm256_shuffle_epi8(mz, b0);
+    __m256i X = _mm256_and_si256(cx, mx);
+    __m256i yy = _mm256_and_si256(_mm256_add_epi8(_mm256_shuffle_epi8(cy, b0), _mm256_set1_epi32(0x01000100)), myb);
+    __m256i zr = _mm256_shuffle_epi8(cz, b0);
+    __m256i zb = _mm256_and_si256(zr, mzb);
+    __m256i zb1 = _mm256_and_si256(_mm256_add_epi8(zr, _mm256_set1_epi8(1)), mzb);
+    int seam = zseam && _mm256_movemask_epi8(_mm256_cmpeq_epi8(zb, mzb)) != 0;
+    return bg_hashp_bytes(X, _mm256_cmpeq_epi32(X, mx), yy, zb, zb1, zseam, seam);
+}
+/* Every cell in [-2^22, 2^22) (bump_tmpl.c lattice_pow2). */
+static inline int vi_small22(vi cx, vi cy, vi cz)
+{
+    const __m256i k = _mm256_set1_epi32(1 << 22);
+    __m256i t = _mm256_or_si256(_mm256_or_si256(_mm256_add_epi32(cx, k), _mm256_add_epi32(cy, k)), _mm256_add_epi32(cz, k));
+    return _mm256_testz_si256(t, _mm256_set1_epi32((int)0xff800000u));
 }
 #endif
 

@@ -118,39 +118,91 @@ static inline vhash vi_hashp(vi X, vi Y, vi Z)
  * 2 p[AB], 3 p[AB+1], 4 p[BA], 5 p[BA+1], 6 p[BB], 7 p[BB+1]. */
 static const int bg_corner_nib[8] = {0, 4, 2, 6, 1, 5, 3, 7};
 static inline vi vh_corner(const vhash *l, int k) { return _mm512_srli_epi32(*l, (unsigned)(4 * bg_corner_nib[k])); }
-/* The periodic chain (bump_tmpl.c octave_cell): the corners' cells are given
- * wrapped (X1 = X + 1, or 0 at the seam), so the "+1" of each step becomes
- * the byte difference X1 - X (1, or 1 - P modulo 256): the same three byte
- * lookups for the first two steps; the last step looks up the z and z + 1
- * corners separately (p[i] & 15 each, where bg_perm_nib2 pairs p[i], p[i+1])
- * and packs them into vi_hashp's nibble layout. zseam (bump_tmpl.c
- * octave_cell): 0 no lane is on the z seam, 1 few are (tested per vector), 2
- * many are: the z + 1 lookup without the test, whose branch mispredicted
- * for most vectors (P_z = 16: a lane of 16 on the seam in 64% of them). */
+/* The periodic chain (bump_tmpl.c octave_cell). Every step looks up
+ * independent byte indices, so a wrapped corner costs nothing there: the x
+ * step looks up (X, X, X1, X1), which gives (p[X], p[X], p[X1], p[X1]); adding
+ * (Y, Y1, Y, Y1) gives the four indices of the second step (AA, AB, BA, BB
+ * before + Z, in vi_hashp's order), *pa. Only the last step pairs two corners
+ * in one lookup (bg_perm_nib2: p[i] and p[i + 1]), which holds off the z seam
+ * (Z1 = Z + 1 modulo 256: every lane of an untiled z); the lanes on the seam
+ * look their z + 1 corners up on their own (p[i] alone) and put those low
+ * nibbles over the pair's high ones. zseam (bump_tmpl.c octave_cell): 0 no
+ * lane is on the z seam, 1 few are (tested per vector), 2 many are (P_z <=
+ * 64; P_z = 16: a lane of 16 on the seam in 64% of the vectors): the z + 1
+ * lookup without the test, whose branch would mispredict. xb, yy: the byte
+ * patterns above; zb: Z in every byte. */
+static inline vhash bg_hashp_bytes(__m512i xb, __m512i yy, __m512i zb, __m512i *pa)
+{
+    *pa = bg_perm_bytes(_mm512_add_epi8(bg_perm_bytes(xb), yy));
+    return bg_perm_bytes_of(bg_perm_nib2, _mm512_add_epi8(*pa, zb));
+}
+/* The pair's high nibbles replaced by hi's low ones in the lanes of k. */
+static inline vhash bg_hashp_hi(vhash h, __m512i hi, __mmask16 k)
+{
+    return _mm512_mask_ternarylogic_epi32(h, k, _mm512_slli_epi16(hi, 4), _mm512_set1_epi8((char)0xf0), 0xd8);
+}
+/* From cells given wrapped (X1 = X + 1, or 0 at the seam; lattice_per): the
+ * byte patterns by two-source byte permutes; the z + 1 corners p[pa + Z1]
+ * where Z1 differs from Z + 1 modulo 256. */
 static inline vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
 {
+    /* dword j: (X, X, X1, X1) and (Y, Y1, Y, Y1) from byte 4j of each source
+     * (64 + 4j: the second). */
+    const __m512i ixx = _mm512_set_epi32(
+        0x7c7c3c3c, 0x78783838, 0x74743434, 0x70703030, 0x6c6c2c2c, 0x68682828, 0x64642424, 0x60602020,
+        0x5c5c1c1c, 0x58581818, 0x54541414, 0x50501010, 0x4c4c0c0c, 0x48480808, 0x44440404, 0x40400000);
+    const __m512i ixy = _mm512_set_epi32(
+        0x7c3c7c3c, 0x78387838, 0x74347434, 0x70307030, 0x6c2c6c2c, 0x68286828, 0x64246424, 0x60206020,
+        0x5c1c5c1c, 0x58185818, 0x54145414, 0x50105010, 0x4c0c4c0c, 0x48084808, 0x44044404, 0x40004000);
     const __m512i b0 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
-    const __m512i b01 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 1, 1, 4, 4, 5, 5, 8, 8, 9, 9, 12, 12, 13, 13));
-    const __m512i odd = _mm512_set1_epi32((int)0xff00ff00u), lo4 = _mm512_set1_epi8(15);
-    __m512i xb = _mm512_or_si512(_mm512_or_si512(X, _mm512_slli_epi32(X, 16)),
-                                 _mm512_or_si512(_mm512_slli_epi32(X1, 8), _mm512_slli_epi32(X1, 24)));
-    __m512i yb = _mm512_shuffle_epi8(Y, b0), zb = _mm512_shuffle_epi8(Z, b0);
-    __m512i dyb = _mm512_and_si512(_mm512_shuffle_epi8(_mm512_sub_epi32(Y1, Y), b0), odd);
-    __m512i dzb = _mm512_shuffle_epi8(_mm512_sub_epi32(Z1, Z), b0);
-    __m512i ab = _mm512_add_epi8(bg_perm_bytes(xb), yb);
-    __m512i i2 = _mm512_add_epi8(_mm512_shuffle_epi8(ab, b01), dyb);
-    __m512i hz = _mm512_add_epi8(bg_perm_bytes(i2), zb); /* AA, AB, BA, BB */
-    /* Off the z seam (Z1 = Z + 1 modulo 256, every lane of an untiled z) the
-     * pair table gives both corners, as in vi_hashp; only a vector with a lane
-     * on the seam looks the z + 1 corners up on their own (the same hashes in
-     * the other lanes). */
-    __m512i h = bg_perm_bytes_of(bg_perm_nib2, hz);
-    __m512i zn = _mm512_and_si512(_mm512_add_epi32(Z, _mm512_set1_epi32(1)), _mm512_set1_epi32(255));
-    if (zseam == 2 || (zseam && _mm512_cmpneq_epi32_mask(Z1, zn))) {
-        __m512i hi = _mm512_slli_epi16(_mm512_and_si512(bg_perm_bytes(_mm512_add_epi8(hz, dzb)), lo4), 4);
-        h = _mm512_or_si512(_mm512_and_si512(h, lo4), hi);
-    }
+    __m512i zb = _mm512_shuffle_epi8(Z, b0), zb1 = _mm512_shuffle_epi8(Z1, b0), pa;
+    vhash h = bg_hashp_bytes(_mm512_permutex2var_epi8(X, ixx, X1), _mm512_permutex2var_epi8(Y, ixy, Y1), zb, &pa);
+    if (!zseam)
+        return h;
+    __mmask16 k = zseam == 2 ? (__mmask16)0xffff
+                             : _mm512_cmpneq_epi32_mask(zb1, _mm512_add_epi8(zb, _mm512_set1_epi8(1)));
+    if (zseam == 2 || k)
+        h = bg_hashp_hi(h, bg_perm_bytes(_mm512_add_epi8(pa, zb1)), k);
     return h;
+}
+/* From unreduced cells and masks P - 1 (bump_tmpl.c vi_hashp_pow2): the byte
+ * patterns by adding the corners' 0/1 and masking, bytewise. A lane on the z
+ * seam (Z = P_z - 1) has Z1 = 0: its z + 1 corners are p[pa]. */
+#define BG_HAVE_HASHP_POW2 1
+static inline vhash vi_hashp_pow2(vi cx, vi cy, vi cz, vi mx, vi my, vi mz, int zseam)
+{
+    const __m512i b0 = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));
+    __m512i mxb = _mm512_shuffle_epi8(mx, b0), myb = _mm512_shuffle_epi8(my, b0), mzb = _mm512_shuffle_epi8(mz, b0);
+    __m512i xb = _mm512_and_si512(_mm512_add_epi8(_mm512_shuffle_epi8(cx, b0), _mm512_set1_epi32(0x01010000)), mxb);
+    __m512i yy = _mm512_and_si512(_mm512_add_epi8(_mm512_shuffle_epi8(cy, b0), _mm512_set1_epi32(0x01000100)), myb);
+    __m512i zb = _mm512_and_si512(_mm512_shuffle_epi8(cz, b0), mzb), pa;
+    vhash h = bg_hashp_bytes(xb, yy, zb, &pa);
+    if (!zseam)
+        return h;
+    __mmask16 k = _mm512_cmpeq_epi32_mask(zb, mzb);
+    if (zseam == 2 || k)
+        h = bg_hashp_hi(h, bg_perm_bytes(pa), k);
+    return h;
+}
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c lattice_any_small). */
+static inline vi vi_wrap1(vi r, int32_t pm1)
+{
+    return _mm512_maskz_add_epi32(_mm512_cmpneq_epi32_mask(r, _mm512_set1_epi32(pm1)), r, _mm512_set1_epi32(1));
+}
+/* Every |fl| < 2^22 (bump_tmpl.c lattice_pow2; false for NaN): vrangeps
+ * 0x0b is max(|a|, |b|) (NaN if either is). */
+#define BG_HAVE_SMALL22 1
+static inline int vf_small22(vf a, vf b, vf c)
+{
+    vf m = _mm512_range_ps(_mm512_range_ps(a, b, 0x0b), c, 0x0b);
+    return _mm512_cmp_ps_mask(m, _mm512_set1_ps(4194304.0f), _CMP_LT_OQ) == 0xffff;
+}
+/* Every cell in [-2^22, 2^22) (bump_tmpl.c lattice_pow2). */
+static inline int vi_small22(vi cx, vi cy, vi cz)
+{
+    const __m512i k = _mm512_set1_epi32(1 << 22);
+    __m512i t = _mm512_ternarylogic_epi32(_mm512_add_epi32(cx, k), _mm512_add_epi32(cy, k), _mm512_add_epi32(cz, k), 0xfe);
+    return _mm512_test_epi32_mask(t, _mm512_set1_epi32((int)0xff800000u)) == 0;
 }
 #else
 #endif
