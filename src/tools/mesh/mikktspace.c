@@ -156,15 +156,19 @@ static void weld_hashes(void *ctx, size_t b, size_t e, int worker)
 {
     (void)worker;
     const weld_job *j = ctx;
+    const bgt_mikk_mesh *m = j->m;
+    const float *a[8] = {m->px, m->py, m->pz, m->nx, m->ny, m->nz, m->u, m->v};
+    uint32_t *hash = j->hash;
     for (size_t i = b; i < e; i++) {
-        uint32_t key[8];
-        int nan;
-        vertex_keys(j->m, i, key, &nan);
         uint64_t h = UINT64_C(0x9e3779b97f4a7c15);
-        for (int a = 0; a < 8; a++)
-            h = (h ^ key[a]) * UINT64_C(0xff51afd7ed558ccd);
+        int nan = 0;
+        for (int q = 0; q < 8; q++) {
+            float f = a[q][i];
+            nan |= f != f;
+            h = (h ^ mesh_float_key(f)) * UINT64_C(0xff51afd7ed558ccd);
+        }
         uint32_t h32 = (uint32_t)(h >> 32) ^ (uint32_t)h;
-        j->hash[i] = nan ? UINT32_MAX : (h32 == UINT32_MAX ? 0 : h32);
+        hash[i] = nan ? UINT32_MAX : (h32 == UINT32_MAX ? 0 : h32);
     }
 }
 
@@ -617,6 +621,76 @@ static void whole_fan(const mikk *k, const int32_t *mem, const d3 *term, const u
  * these squares to be exact to a few ulps: |r|^2 outside [1e-12, 1e12];
  * NaN) answers "may split", and the exact test decides. */
 static int proj_ok(float l) { return l >= 1e-12f && l <= 1e12f; }
+#if defined(__GNUC__) && defined(__SSE2__)
+/* The same test, four members at a time (SSE float lanes). */
+static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t *corner)
+{
+    const bgt_mikk_mesh *m = k->m;
+    const float *nxs = m->nx, *nys = m->ny, *nzs = m->nz;
+    const uint32_t *idx = m->indices;
+    const uint8_t *flags = k->flags;
+    const f3 *fos = k->fos, *fot = k->fot;
+    size_t first = 0;
+    while (first < n && (flags[mem[first]] & TRI_ANY))
+        first++;
+    if (first >= n)
+        return 0;
+    __m128 s0x, s0y, s0z, t0x, t0y, t0z, ls0, lt0;
+    const __m128 lo = _mm_set1_ps(1e-12f), hi = _mm_set1_ps(1e12f), zero = _mm_setzero_ps(),
+                 quarter = _mm_set1_ps(0.25f);
+    int ok = 1;
+    for (size_t i0 = first; i0 < n && ok; i0 += 4) {
+        size_t il[4];
+        int dead[4];
+        for (int l = 0; l < 4; l++) {
+            size_t i = i0 + (size_t)l < n ? i0 + (size_t)l : first;
+            il[l] = (size_t)mem[i];
+            dead[l] = !(i0 + (size_t)l < n) || (flags[il[l]] & TRI_ANY);
+            il[l] = il[l] << 2 | corner[i];
+        }
+        /* lanes built from scalars (not stored and reloaded: a 16-byte load
+         * of four 4-byte stores stalls) */
+#define MIKK_G(arr, f) _mm_set_ps(arr[L(3)] f, arr[L(2)] f, arr[L(1)] f, arr[L(0)] f)
+#define L(l) (il[l] >> 2)
+        __m128 ax = MIKK_G(fos, .x), ay = MIKK_G(fos, .y), az = MIKK_G(fos, .z);
+        __m128 bx = MIKK_G(fot, .x), by = MIKK_G(fot, .y), bz = MIKK_G(fot, .z);
+#undef L
+        uint32_t vi[4];
+        for (int l = 0; l < 4; l++)
+            vi[l] = idx[3 * (il[l] >> 2) + (il[l] & 3)];
+#define L(l) vi[l]
+        __m128 nx = MIKK_G(nxs, ), ny = MIKK_G(nys, ), nz = MIKK_G(nzs, );
+#undef L
+#undef MIKK_G
+        __m128 deadm = _mm_castsi128_ps(_mm_set_epi32(-dead[3], -dead[2], -dead[1], -dead[0]));
+        __m128 da = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, ax), _mm_mul_ps(ny, ay)), _mm_mul_ps(nz, az));
+        __m128 db = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, bx), _mm_mul_ps(ny, by)), _mm_mul_ps(nz, bz));
+        __m128 sx = _mm_sub_ps(ax, _mm_mul_ps(da, nx)), sy = _mm_sub_ps(ay, _mm_mul_ps(da, ny)),
+               sz = _mm_sub_ps(az, _mm_mul_ps(da, nz));
+        __m128 tx = _mm_sub_ps(bx, _mm_mul_ps(db, nx)), ty = _mm_sub_ps(by, _mm_mul_ps(db, ny)),
+               tz = _mm_sub_ps(bz, _mm_mul_ps(db, nz));
+        __m128 ls = _mm_add_ps(_mm_add_ps(_mm_mul_ps(sx, sx), _mm_mul_ps(sy, sy)), _mm_mul_ps(sz, sz));
+        __m128 lt = _mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, tx), _mm_mul_ps(ty, ty)), _mm_mul_ps(tz, tz));
+        if (i0 == first) { /* lane 0 is the first member: the reference */
+            s0x = _mm_shuffle_ps(sx, sx, 0), s0y = _mm_shuffle_ps(sy, sy, 0);
+            s0z = _mm_shuffle_ps(sz, sz, 0), t0x = _mm_shuffle_ps(tx, tx, 0);
+            t0y = _mm_shuffle_ps(ty, ty, 0), t0z = _mm_shuffle_ps(tz, tz, 0);
+            ls0 = _mm_shuffle_ps(ls, ls, 0), lt0 = _mm_shuffle_ps(lt, lt, 0);
+        }
+        __m128 ds = _mm_add_ps(_mm_add_ps(_mm_mul_ps(sx, s0x), _mm_mul_ps(sy, s0y)), _mm_mul_ps(sz, s0z));
+        __m128 dt = _mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, t0x), _mm_mul_ps(ty, t0y)), _mm_mul_ps(tz, t0z));
+        __m128 good = _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(ls, lo), _mm_cmple_ps(ls, hi)),
+                                 _mm_and_ps(_mm_cmpge_ps(lt, lo), _mm_cmple_ps(lt, hi)));
+        good = _mm_and_ps(good, _mm_and_ps(_mm_cmpgt_ps(ds, zero), _mm_cmpgt_ps(dt, zero)));
+        good = _mm_and_ps(good, _mm_cmpgt_ps(_mm_mul_ps(ds, ds), _mm_mul_ps(quarter, _mm_mul_ps(ls, ls0))));
+        good = _mm_and_ps(good, _mm_cmpgt_ps(_mm_mul_ps(dt, dt), _mm_mul_ps(quarter, _mm_mul_ps(lt, lt0))));
+        /* lanes of zero-UV-area members and past the end pass */
+        good = _mm_or_ps(good, deadm);
+        ok = _mm_movemask_ps(good) == 15;
+    }
+    return !ok;
+}
+#else
 static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t *corner)
 {
     const bgt_mikk_mesh *m = k->m;
@@ -653,24 +727,31 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
     }
     return 0;
 }
+#endif
 
 /* scratch: the member lists of the distinct subfans, each preceded by its
  * length (at most MIKK_SPLIT_MAX lists of MIKK_SPLIT_MAX) */
 #define MIKK_SCRATCH ((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1))
+static void fan_split(const mikk *k, mikk_worker *wk, const int32_t *mem, size_t n, float w,
+                      float *out, const d3 *term, const uint8_t *corner);
 static void fan_output(const mikk *k, mikk_worker *wk, const int32_t *mem, size_t n, int pres,
                        float *out, d3 *term, const uint8_t *corner)
 {
-    const bgt_mikk_mesh *m = k->m;
     float w = pres ? 1.0f : -1.0f;
     fan_terms(k, mem, corner, n, term);
-    if (n > MIKK_SPLIT_MAX) {
+    if (n > MIKK_SPLIT_MAX || !may_split(k, mem, n, corner))
         whole_fan(k, mem, term, corner, n, w, out);
-        return;
-    }
-    if (!may_split(k, mem, n, corner)) {
-        whole_fan(k, mem, term, corner, n, w, out);
-        return;
-    }
+    else
+        fan_split(k, wk, mem, n, w, out, term, corner);
+}
+
+/* The exact test of rule 5 and, where a pair points opposite, the subfans. */
+__attribute__((noinline)) static void fan_split(const mikk *k, mikk_worker *wk,
+                                                const int32_t *mem, size_t n, float w,
+                                                float *out, const d3 *term,
+                                                const uint8_t *corner)
+{
+    const bgt_mikk_mesh *m = k->m;
     f3 ps[MIKK_SPLIT_MAX], pt[MIKK_SPLIT_MAX];
     uint8_t anyf[MIKK_SPLIT_MAX];
     for (size_t i = 0; i < n; i++) {
@@ -764,9 +845,12 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
                     seed_fan(k, w, t, (int)(cs[i] % 3));
             }
         int64_t first = -1;
+        int degenerate = 0;
         for (size_t i = 0; i < nc; i++) {
-            if (k->flags[cs[i] / 3] & TRI_DEGENERATE)
+            if (k->flags[cs[i] / 3] & TRI_DEGENERATE) {
+                degenerate = 1;
                 continue;
+            }
             if (first < 0)
                 first = cs[i];
             if (!k->grouped[cs[i]]) {
@@ -774,7 +858,7 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
                 w->unreached++;
             }
         }
-        for (size_t i = 0; i < nc; i++) {
+        for (size_t i = 0; degenerate && i < nc; i++) {
             if (!(k->flags[cs[i] / 3] & TRI_DEGENERATE))
                 continue;
             if (first >= 0)
