@@ -620,7 +620,6 @@ static void whole_fan(const mikk *k, const int32_t *mem, const d3 *term, const u
  * else (a member beyond 60 degrees, a projection too short or too long for
  * these squares to be exact to a few ulps: |r|^2 outside [1e-12, 1e12];
  * NaN) answers "may split", and the exact test decides. */
-static int proj_ok(float l) { return l >= 1e-12f && l <= 1e12f; }
 #if defined(__GNUC__) && defined(__SSE2__)
 /* The same test, four members at a time (SSE float lanes). */
 static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t *corner)
@@ -635,7 +634,8 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
         first++;
     if (first >= n)
         return 0;
-    __m128 s0x, s0y, s0z, t0x, t0y, t0z, ls0, lt0;
+    __m128 s0x = _mm_setzero_ps(), s0y = s0x, s0z = s0x, t0x = s0x, t0y = s0x, t0z = s0x,
+           ls0 = s0x, lt0 = s0x;
     const __m128 lo = _mm_set1_ps(1e-12f), hi = _mm_set1_ps(1e12f), zero = _mm_setzero_ps(),
                  quarter = _mm_set1_ps(0.25f);
     int ok = 1;
@@ -691,6 +691,7 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
     return !ok;
 }
 #else
+static int proj_ok(float l) { return l >= 1e-12f && l <= 1e12f; }
 static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t *corner)
 {
     const bgt_mikk_mesh *m = k->m;
