@@ -375,16 +375,22 @@ static int cmp_u64(const void *a, const void *b)
 
 static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 {
+    /* corner k of a triangle: the edge that leaves it is k, the one that
+     * arrives is prev (k + 2 mod 3); next is k + 1 mod 3 */
+    static const uint8_t nx3[3] = {1, 2, 0}, pv3[3] = {2, 0, 1};
     mikk *k = ctx;
     uint64_t *ed = k->w[worker].edges;
+    const uint32_t *vs = k->v_start, *vc = k->v_corner, *wc = k->wc;
+    const uint8_t *flags = k->flags;
+    int32_t *nb = k->nb;
     for (size_t v = b; v < e; v++) {
         size_t n = 0;
-        for (uint32_t i = k->v_start[v]; i < k->v_start[v + 1]; i++) {
-            uint32_t c = k->v_corner[i], t = c / 3, kc = c % 3, kp = (kc + 2) % 3;
-            if (k->flags[t] & TRI_DEGENERATE)
+        for (uint32_t i = vs[v], i1 = vs[v + 1]; i < i1; i++) {
+            uint32_t c = vc[i], t = c / 3, kc = c - 3 * t, kp = pv3[kc];
+            if (flags[t] & TRI_DEGENERATE)
                 continue;
             /* edge kc leaves v, edge kp arrives at it: in edge-number order */
-            uint32_t next = wv(k, 3 * (size_t)t + (kc + 1) % 3), prev = wv(k, 3 * (size_t)t + kp);
+            uint32_t next = wc[3 * (size_t)t + nx3[kc]], prev = wc[3 * (size_t)t + kp];
             uint64_t tk = (uint64_t)t << 2;
             if (kp < kc && prev > v)
                 ed[n++] = (uint64_t)prev << 32 | tk | kp;
@@ -402,14 +408,14 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
          * arrives. */
         for (size_t i = 0; i < n; i++) {
             size_t ca = (size_t)(ed[i] >> 2 & 0x3fffffff) * 3 + (ed[i] & 3);
-            if (k->nb[ca] >= 0)
+            if (nb[ca] >= 0)
                 continue;
-            int leaves = wv(k, ca) == v;
+            int leaves = wc[ca] == v;
             for (size_t j = i + 1; j < n && ed[j] >> 32 == ed[i] >> 32; j++) {
                 size_t cb = (size_t)(ed[j] >> 2 & 0x3fffffff) * 3 + (ed[j] & 3);
-                if ((wv(k, cb) == v) != leaves && k->nb[cb] < 0) {
-                    k->nb[ca] = (int32_t)cb;
-                    k->nb[cb] = (int32_t)ca;
+                if ((wc[cb] == v) != leaves && nb[cb] < 0) {
+                    nb[ca] = (int32_t)cb;
+                    nb[cb] = (int32_t)ca;
                     break;
                 }
             }
