@@ -456,11 +456,13 @@ static size_t grow_fan(mikk *k, mikk_worker *w, int pres, size_t seed, int seed_
     k->grouped[sc] = 1;
     w->corner[n] = (uint8_t)seed_corner;
     w->members[n++] = (int32_t)seed;
-    /* push the second edge first so that the first is explored first */
+    /* push the second edge first so that the first is explored first; a
+     * corner already in a fan would be skipped when popped, so it is not
+     * pushed (grouped marks are never cleared) */
     int32_t r = across_arriving(k, sc), l = across_leaving(k, sc);
-    if (r >= 0)
+    if (r >= 0 && !k->grouped[r])
         w->stack[sp++] = r;
-    if (l >= 0)
+    if (l >= 0 && !k->grouped[l])
         w->stack[sp++] = l;
     while (sp > 0) {
         size_t cn = (size_t)w->stack[--sp], t = cn / 3;
@@ -480,9 +482,9 @@ static size_t grow_fan(mikk *k, mikk_worker *w, int pres, size_t seed, int seed_
         w->members[n++] = (int32_t)t;
         r = across_arriving(k, cn);
         l = across_leaving(k, cn);
-        if (r >= 0)
+        if (r >= 0 && !k->grouped[r])
             w->stack[sp++] = r;
-        if (l >= 0)
+        if (l >= 0 && !k->grouped[l])
             w->stack[sp++] = l;
     }
     return n;
