@@ -61,8 +61,11 @@ static d3 d3_unit_if(d3 a)
         return a;
     return d3_scale(a, 1.0 / sqrt(d3_dot(a, a)));
 }
-/* a minus its component along the unit n, normalized when it has a direction */
+/* a minus its component along the unit n, normalized when it has a direction
+ * (fan_terms does this two at a time where SSE2 is there) */
+#if !(defined(__GNUC__) && defined(__SSE2__))
 static d3 d3_tangential(d3 a, d3 n) { return d3_unit_if(d3_sub(a, d3_scale(n, d3_dot(n, a)))); }
+#endif
 
 /* The same in float, in the reference's order of operations: only the split
  * test of rule 5 uses these. Whether two projected directions point "exactly
@@ -122,36 +125,8 @@ typedef struct mikk {
 
 static uint32_t wv(const mikk *k, size_t corner) { return k->wc[corner]; }
 
-static d3 pos(const bgt_mikk_mesh *m, uint32_t i) { return (d3){m->px[i], m->py[i], m->pz[i]}; }
-static d3 nrm(const bgt_mikk_mesh *m, uint32_t i) { return (d3){m->nx[i], m->ny[i], m->nz[i]}; }
-static f3 fpos(const bgt_mikk_mesh *m, uint32_t i) { return (f3){m->px[i], m->py[i], m->pz[i]}; }
 static f3 fnrm(const bgt_mikk_mesh *m, uint32_t i) { return (f3){m->nx[i], m->ny[i], m->nz[i]}; }
 
-/* Rule 3 in float for the split test: dP/du = dv2 e1 - dv1 e2 and
- * dP/dv = -du2 e1 + du1 e2 (UV differences and edges rounded to float first),
- * scaled by (sign of the float area) / length. */
-static void float_directions(mikk *k, size_t t)
-{
-    const bgt_mikk_mesh *m = k->m;
-    const uint32_t *ix = m->indices + 3 * t;
-    float du1 = m->u[ix[1]] - m->u[ix[0]], dv1 = m->v[ix[1]] - m->v[ix[0]];
-    float du2 = m->u[ix[2]] - m->u[ix[0]], dv2 = m->v[ix[2]] - m->v[ix[0]];
-    f3 p0 = fpos(m, ix[0]);
-    f3 e1 = f3_sub(fpos(m, ix[1]), p0), e2 = f3_sub(fpos(m, ix[2]), p0);
-    float area = du1 * dv2 - dv1 * du2;
-    f3 s = f3_sub(f3_scale(dv2, e1), f3_scale(dv1, e2));
-    f3 a = f3_scale(-du2, e1), b = f3_scale(du1, e2);
-    f3 tt = {a.x + b.x, a.y + b.y, a.z + b.z};
-    k->fos[t] = k->fot[t] = (f3){0.0f, 0.0f, 0.0f};
-    if (!(fabsf(area) > FLT_MIN))
-        return;
-    float sg = area > 0.0f ? 1.0f : -1.0f;
-    float ls = sqrtf(f3_dot(s, s)), lt = sqrtf(f3_dot(tt, tt));
-    if (ls > FLT_MIN)
-        k->fos[t] = f3_scale(sg / ls, s);
-    if (lt > FLT_MIN)
-        k->fot[t] = f3_scale(sg / lt, tt);
-}
 
 
 /* ---- 1. welding ----
@@ -181,15 +156,19 @@ static void weld_hashes(void *ctx, size_t b, size_t e, int worker)
 {
     (void)worker;
     const weld_job *j = ctx;
+    const bgt_mikk_mesh *m = j->m;
+    const float *a[8] = {m->px, m->py, m->pz, m->nx, m->ny, m->nz, m->u, m->v};
+    uint32_t *hash = j->hash;
     for (size_t i = b; i < e; i++) {
-        uint32_t key[8];
-        int nan;
-        vertex_keys(j->m, i, key, &nan);
         uint64_t h = UINT64_C(0x9e3779b97f4a7c15);
-        for (int a = 0; a < 8; a++)
-            h = (h ^ key[a]) * UINT64_C(0xff51afd7ed558ccd);
+        int nan = 0;
+        for (int q = 0; q < 8; q++) {
+            float f = a[q][i];
+            nan |= f != f;
+            h = (h ^ mesh_float_key(f)) * UINT64_C(0xff51afd7ed558ccd);
+        }
         uint32_t h32 = (uint32_t)(h >> 32) ^ (uint32_t)h;
-        j->hash[i] = nan ? UINT32_MAX : (h32 == UINT32_MAX ? 0 : h32);
+        hash[i] = nan ? UINT32_MAX : (h32 == UINT32_MAX ? 0 : h32);
     }
 }
 
@@ -276,56 +255,94 @@ static size_t weld_vertices(mikk *k, const uint8_t *used)
 
 /* ---- 2./3. triangle classification and UV directions ---- */
 
+/* Rule 3 per triangle: the orientation, the zero-UV-area test and the unit
+ * oriented dP/du in double (k->os), and dP/du, dP/dv in float for the split
+ * test of rule 5 (k->fos, k->fot): dP/du = dv2 e1 - dv1 e2 and dP/dv = -du2
+ * e1 + du1 e2 (UV differences and edges rounded to float first there),
+ * scaled by (sign of the area) / length. Each array element is written once,
+ * and the arrays of the mesh are read through local pointers (the stores
+ * could alias them). */
 static void classify_chunk(void *ctx, size_t b, size_t e, int worker)
 {
     mikk *k = ctx;
     mikk_worker *w = &k->w[worker];
     const bgt_mikk_mesh *m = k->m;
+    const float *px = m->px, *py = m->py, *pz = m->pz, *us = m->u, *vs = m->v;
+    const uint32_t *idx = m->indices, *weld = k->weld;
+    uint32_t *wc = k->wc;
+    int32_t *nb = k->nb;
+    uint8_t *grouped = k->grouped, *flags = k->flags;
+    d3 *os = k->os;
+    f3 *fos = k->fos, *fot = k->fot;
+    size_t degenerate = 0, zero = 0;
     for (size_t t = b; t < e; t++) {
-        const uint32_t *ix = m->indices + 3 * t;
-        for (int c = 0; c < 3; c++) {
-            k->wc[3 * t + (size_t)c] = k->weld[ix[c]];
-            k->nb[3 * t + (size_t)c] = -1;
-            k->grouped[3 * t + (size_t)c] = 0;
+        const uint32_t *ix = idx + 3 * t;
+        uint32_t i0 = ix[0], i1 = ix[1], i2 = ix[2];
+        wc[3 * t] = weld[i0], wc[3 * t + 1] = weld[i1], wc[3 * t + 2] = weld[i2];
+        nb[3 * t] = nb[3 * t + 1] = nb[3 * t + 2] = -1;
+        grouped[3 * t] = grouped[3 * t + 1] = grouped[3 * t + 2] = 0;
+        float x0 = px[i0], y0 = py[i0], z0 = pz[i0];
+        float x1 = px[i1], y1 = py[i1], z1 = pz[i1];
+        float x2 = px[i2], y2 = py[i2], z2 = pz[i2];
+        /* x - x is +0 for a finite x, NaN for an infinity or a NaN */
+        float nf = (x0 - x0) + (y0 - y0) + (z0 - z0) + (x1 - x1) + (y1 - y1) + (z1 - z1) +
+                   (x2 - x2) + (y2 - y2) + (z2 - z2);
+        int eq01 = (x0 == x1) & (y0 == y1) & (z0 == z1);
+        int eq02 = (x0 == x2) & (y0 == y2) & (z0 == z2);
+        int eq12 = (x1 == x2) & (y1 == y2) & (z1 == z2);
+        d3 o = {0, 0, 0};
+        f3 fs = {0.0f, 0.0f, 0.0f}, ft = {0.0f, 0.0f, 0.0f};
+        uint8_t f;
+        if (!(nf == 0.0f) || eq01 || eq02 || eq12) {
+            f = TRI_DEGENERATE;
+            degenerate++;
+        } else {
+            float u0 = us[i0], u1 = us[i1], u2 = us[i2], v0 = vs[i0], v1 = vs[i1], v2 = vs[i2];
+            double du1 = (double)u1 - u0, dv1 = (double)v1 - v0;
+            double du2 = (double)u2 - u0, dv2 = (double)v2 - v0;
+            double area = du1 * dv2 - du2 * dv1;
+            d3 p0 = {x0, y0, z0};
+            d3 e1 = d3_sub((d3){x1, y1, z1}, p0), e2 = d3_sub((d3){x2, y2, z2}, p0);
+            d3 sd = d3_sub(d3_scale(e1, dv2), d3_scale(e2, dv1));  /* area * dP/du */
+            d3 td = d3_sub(d3_scale(e2, du1), d3_scale(e1, du2)); /* area * dP/dv */
+            f = area > 0.0 ? TRI_PRESERVING : 0;
+            int any = 1;
+            if (fabs(area) > FLT_MIN) {
+                double sg = area > 0.0 ? 1.0 : -1.0;
+                double ls = sqrt(d3_dot(sd, sd)), lt = sqrt(d3_dot(td, td));
+                if (ls > FLT_MIN)
+                    o = d3_scale(sd, sg / ls);
+                double ms = ls / fabs(area), mt = lt / fabs(area);
+                any = !(ms > FLT_MIN && mt > FLT_MIN);
+            }
+            if (any) {
+                f |= TRI_ANY;
+                zero++;
+            }
+            /* the same in float */
+            float fdu1 = u1 - u0, fdv1 = v1 - v0, fdu2 = u2 - u0, fdv2 = v2 - v0;
+            f3 fp0 = {x0, y0, z0};
+            f3 fe1 = f3_sub((f3){x1, y1, z1}, fp0), fe2 = f3_sub((f3){x2, y2, z2}, fp0);
+            float farea = fdu1 * fdv2 - fdv1 * fdu2;
+            f3 ss = f3_sub(f3_scale(fdv2, fe1), f3_scale(fdv1, fe2));
+            f3 ta = f3_scale(-fdu2, fe1), tb = f3_scale(fdu1, fe2);
+            f3 ts = {ta.x + tb.x, ta.y + tb.y, ta.z + tb.z};
+            if (fabsf(farea) > FLT_MIN) {
+                float sg = farea > 0.0f ? 1.0f : -1.0f;
+                float ls = sqrtf(f3_dot(ss, ss)), lt = sqrtf(f3_dot(ts, ts));
+                if (ls > FLT_MIN)
+                    fs = f3_scale(sg / ls, ss);
+                if (lt > FLT_MIN)
+                    ft = f3_scale(sg / lt, ts);
+            }
         }
-        d3 p0 = pos(m, ix[0]), p1 = pos(m, ix[1]), p2 = pos(m, ix[2]);
-        k->os[t] = (d3){0, 0, 0};
-        k->fos[t] = k->fot[t] = (f3){0.0f, 0.0f, 0.0f};
-        k->flags[t] = 0;
-        int finite = isfinite(p0.x) && isfinite(p0.y) && isfinite(p0.z) && isfinite(p1.x) &&
-                     isfinite(p1.y) && isfinite(p1.z) && isfinite(p2.x) && isfinite(p2.y) &&
-                     isfinite(p2.z);
-        int eq01 = p0.x == p1.x && p0.y == p1.y && p0.z == p1.z;
-        int eq02 = p0.x == p2.x && p0.y == p2.y && p0.z == p2.z;
-        int eq12 = p1.x == p2.x && p1.y == p2.y && p1.z == p2.z;
-        if (!finite || eq01 || eq02 || eq12) {
-            k->flags[t] = TRI_DEGENERATE;
-            w->degenerate++;
-            continue;
-        }
-        double du1 = (double)m->u[ix[1]] - m->u[ix[0]], dv1 = (double)m->v[ix[1]] - m->v[ix[0]];
-        double du2 = (double)m->u[ix[2]] - m->u[ix[0]], dv2 = (double)m->v[ix[2]] - m->v[ix[0]];
-        double area = du1 * dv2 - du2 * dv1;
-        d3 e1 = d3_sub(p1, p0), e2 = d3_sub(p2, p0);
-        d3 s = d3_sub(d3_scale(e1, dv2), d3_scale(e2, dv1)); /* area * dP/du */
-        d3 tt = d3_sub(d3_scale(e2, du1), d3_scale(e1, du2)); /* area * dP/dv */
-        uint8_t f = area > 0.0 ? TRI_PRESERVING : 0;
-        int any = 1;
-        if (fabs(area) > FLT_MIN) {
-            double sg = area > 0.0 ? 1.0 : -1.0;
-            double ls = sqrt(d3_dot(s, s)), lt = sqrt(d3_dot(tt, tt));
-            if (ls > FLT_MIN)
-                k->os[t] = d3_scale(s, sg / ls);
-            double ms = ls / fabs(area), mt = lt / fabs(area);
-            any = !(ms > FLT_MIN && mt > FLT_MIN);
-        }
-        if (any) {
-            f |= TRI_ANY;
-            w->zero_uv_area++;
-        }
-        float_directions(k, t);
-        k->flags[t] = f;
+        os[t] = o;
+        fos[t] = fs;
+        fot[t] = ft;
+        flags[t] = f;
     }
+    w->degenerate += degenerate;
+    w->zero_uv_area += zero;
 }
 
 /* ---- 4a. edge neighbours ----
@@ -358,16 +375,22 @@ static int cmp_u64(const void *a, const void *b)
 
 static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 {
+    /* corner k of a triangle: the edge that leaves it is k, the one that
+     * arrives is prev (k + 2 mod 3); next is k + 1 mod 3 */
+    static const uint8_t nx3[3] = {1, 2, 0}, pv3[3] = {2, 0, 1};
     mikk *k = ctx;
     uint64_t *ed = k->w[worker].edges;
+    const uint32_t *vs = k->v_start, *vc = k->v_corner, *wc = k->wc;
+    const uint8_t *flags = k->flags;
+    int32_t *nb = k->nb;
     for (size_t v = b; v < e; v++) {
         size_t n = 0;
-        for (uint32_t i = k->v_start[v]; i < k->v_start[v + 1]; i++) {
-            uint32_t c = k->v_corner[i], t = c / 3, kc = c % 3, kp = (kc + 2) % 3;
-            if (k->flags[t] & TRI_DEGENERATE)
+        for (uint32_t i = vs[v], i1 = vs[v + 1]; i < i1; i++) {
+            uint32_t c = vc[i], t = c / 3, kc = c - 3 * t, kp = pv3[kc];
+            if (flags[t] & TRI_DEGENERATE)
                 continue;
             /* edge kc leaves v, edge kp arrives at it: in edge-number order */
-            uint32_t next = wv(k, 3 * (size_t)t + (kc + 1) % 3), prev = wv(k, 3 * (size_t)t + kp);
+            uint32_t next = wc[3 * (size_t)t + nx3[kc]], prev = wc[3 * (size_t)t + kp];
             uint64_t tk = (uint64_t)t << 2;
             if (kp < kc && prev > v)
                 ed[n++] = (uint64_t)prev << 32 | tk | kp;
@@ -385,14 +408,14 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
          * arrives. */
         for (size_t i = 0; i < n; i++) {
             size_t ca = (size_t)(ed[i] >> 2 & 0x3fffffff) * 3 + (ed[i] & 3);
-            if (k->nb[ca] >= 0)
+            if (nb[ca] >= 0)
                 continue;
-            int leaves = wv(k, ca) == v;
+            int leaves = wc[ca] == v;
             for (size_t j = i + 1; j < n && ed[j] >> 32 == ed[i] >> 32; j++) {
                 size_t cb = (size_t)(ed[j] >> 2 & 0x3fffffff) * 3 + (ed[j] & 3);
-                if ((wv(k, cb) == v) != leaves && k->nb[cb] < 0) {
-                    k->nb[ca] = (int32_t)(cb / 3);
-                    k->nb[cb] = (int32_t)(ca / 3);
+                if ((wc[cb] == v) != leaves && nb[cb] < 0) {
+                    nb[ca] = (int32_t)cb;
+                    nb[cb] = (int32_t)ca;
                     break;
                 }
             }
@@ -402,39 +425,48 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 
 /* ---- 4b. fans ---- */
 
-static int corner_of(const mikk *k, size_t t, uint32_t vert)
+static const uint8_t next3[3] = {1, 2, 0}, prev3[3] = {2, 0, 1};
+
+/* The corner at the fan's vertex of the triangle across an edge of corner
+ * c's triangle t: nb holds the matched edge (3 t' + k', from its corner k' to
+ * k' + 1), which runs the opposite way. Across the edge that arrives at c
+ * (prev3[c] to c) the matched edge leaves the vertex: its first corner.
+ * Across the edge that leaves c, its second. -1: no neighbour. */
+static int32_t across_arriving(const mikk *k, size_t corner)
 {
-    for (int c = 0; c < 3; c++)
-        if (wv(k, 3 * t + (size_t)c) == vert)
-            return c;
-    return -1;
+    return k->nb[corner - (size_t)(corner % 3) + prev3[corner % 3]];
+}
+static int32_t across_leaving(const mikk *k, size_t corner)
+{
+    int32_t e = k->nb[corner];
+    return e < 0 ? -1 : e - e % 3 + next3[e % 3];
 }
 
-/* Grow the fan of `vert` from its seed triangle into w->members and the
- * members' corners at `vert` into w->corner (returns the count): depth first, first across the edge that leaves the fan's corner
- * forward (corner c to c+1), then across the edge that arrives at it (c-1 to
- * c). The traversal order matters only for zero-UV-area triangles, which take
- * the orientation of the first fan that reaches them. */
-static size_t grow_fan(mikk *k, mikk_worker *w, uint32_t vert, int pres, size_t seed,
-                       int seed_corner)
+/* Grow the fan of `vert` from its seed corner into w->members and the
+ * members' corners at `vert` into w->corner (returns the count): depth
+ * first, first across the edge that leaves the fan's corner forward (corner
+ * c to c+1), then across the edge that arrives at it (c-1 to c). The
+ * traversal order matters only for zero-UV-area triangles, which take the
+ * orientation of the first fan that reaches them, and for the order of the
+ * fan's sum. The stack holds corners at `vert`. */
+static size_t grow_fan(mikk *k, mikk_worker *w, int pres, size_t seed, int seed_corner)
 {
     size_t sp = 0, n = 0;
-    k->grouped[3 * seed + (size_t)seed_corner] = 1;
+    size_t sc = 3 * seed + (size_t)seed_corner;
+    k->grouped[sc] = 1;
     w->corner[n] = (uint8_t)seed_corner;
     w->members[n++] = (int32_t)seed;
-    /* push the second edge first so that the first is explored first */
-    int32_t r = k->nb[3 * seed + (size_t)((seed_corner + 2) % 3)];
-    int32_t l = k->nb[3 * seed + (size_t)seed_corner];
-    if (r >= 0)
+    /* push the second edge first so that the first is explored first; a
+     * corner already in a fan would be skipped when popped, so it is not
+     * pushed (grouped marks are never cleared) */
+    int32_t r = across_arriving(k, sc), l = across_leaving(k, sc);
+    if (r >= 0 && !k->grouped[r])
         w->stack[sp++] = r;
-    if (l >= 0)
+    if (l >= 0 && !k->grouped[l])
         w->stack[sp++] = l;
     while (sp > 0) {
-        size_t t = (size_t)w->stack[--sp];
-        int c = corner_of(k, t, vert);
-        if (c < 0)
-            continue; /* cannot happen: the shared edge holds the vertex */
-        uint8_t *slot = &k->grouped[3 * t + (size_t)c];
+        size_t cn = (size_t)w->stack[--sp], t = cn / 3;
+        uint8_t *slot = &k->grouped[cn];
         if (*slot)
             continue; /* already in this fan, or in another */
         if (k->flags[t] & TRI_ANY) {
@@ -446,13 +478,13 @@ static size_t grow_fan(mikk *k, mikk_worker *w, uint32_t vert, int pres, size_t 
         if (((k->flags[t] & TRI_PRESERVING) != 0) != (pres != 0))
             continue;
         *slot = 1;
-        w->corner[n] = (uint8_t)c;
+        w->corner[n] = (uint8_t)(cn - 3 * t);
         w->members[n++] = (int32_t)t;
-        r = k->nb[3 * t + (size_t)((c + 2) % 3)];
-        l = k->nb[3 * t + (size_t)c];
-        if (r >= 0)
+        r = across_arriving(k, cn);
+        l = across_leaving(k, cn);
+        if (r >= 0 && !k->grouped[r])
             w->stack[sp++] = r;
-        if (l >= 0)
+        if (l >= 0 && !k->grouped[l])
             w->stack[sp++] = l;
     }
     return n;
@@ -460,28 +492,92 @@ static size_t grow_fan(mikk *k, mikk_worker *w, uint32_t vert, int pres, size_t 
 
 /* ---- 5. tangent of a (sub)fan ---- */
 
-/* Corner angle at corner c of triangle t, between the edges projected onto
- * the plane orthogonal to n. */
-static double projected_angle(const mikk *k, size_t t, int c, d3 n)
+/* The terms of a fan's members, two at a time: a member triangle's term of
+ * its fan's sum is angle * normalize(os projected), with angle the corner
+ * angle between the two edges projected onto the plane orthogonal to the
+ * corner's normal n (zero-UV-area triangles have none). Each lane does the
+ * double operations of one member on its own, in the same order (products,
+ * sums, a square root and a division, each correctly rounded; no fused
+ * multiply-add), so the pairs change nothing in the bits: they let one SSE2
+ * instruction do two members' work. An odd last member is paired with
+ * itself. */
+#if defined(__GNUC__) && defined(__SSE2__)
+#include <emmintrin.h>
+typedef double vd2 __attribute__((vector_size(16)));
+typedef struct v3 {
+    vd2 x, y, z;
+} v3;
+/* a minus its component along n, normalized when it has a direction
+ * (d3_tangential lane by lane) */
+static inline __attribute__((always_inline)) v3 v3_tangential(v3 a, v3 n)
 {
-    const bgt_mikk_mesh *m = k->m;
-    const uint32_t *ix = m->indices + 3 * t;
-    d3 p = pos(m, ix[c]);
-    d3 a = d3_tangential(d3_sub(pos(m, ix[(c + 2) % 3]), p), n);
-    d3 b = d3_tangential(d3_sub(pos(m, ix[(c + 1) % 3]), p), n);
-    double cs = d3_dot(a, b);
-    cs = cs < -1.0 ? -1.0 : cs > 1.0 ? 1.0 : cs;
-    return acos(cs);
+    vd2 d = n.x * a.x + n.y * a.y + n.z * a.z;
+    v3 r = {a.x - n.x * d, a.y - n.y * d, a.z - n.z * d};
+    vd2 inv = (vd2){1.0, 1.0} / (vd2)_mm_sqrt_pd((__m128d)(r.x * r.x + r.y * r.y + r.z * r.z));
+    v3 u = {r.x * inv, r.y * inv, r.z * inv};
+    const __m128d fmin = _mm_set1_pd(FLT_MIN), sign = _mm_set1_pd(-0.0);
+    __m128d nz = _mm_or_pd(_mm_or_pd(_mm_cmpgt_pd(_mm_andnot_pd(sign, (__m128d)r.x), fmin),
+                                     _mm_cmpgt_pd(_mm_andnot_pd(sign, (__m128d)r.y), fmin)),
+                           _mm_cmpgt_pd(_mm_andnot_pd(sign, (__m128d)r.z), fmin));
+    if (_mm_movemask_pd(nz) == 3)
+        return u;
+    return (v3){(vd2)_mm_or_pd(_mm_and_pd(nz, (__m128d)u.x), _mm_andnot_pd(nz, (__m128d)r.x)),
+                (vd2)_mm_or_pd(_mm_and_pd(nz, (__m128d)u.y), _mm_andnot_pd(nz, (__m128d)r.y)),
+                (vd2)_mm_or_pd(_mm_and_pd(nz, (__m128d)u.z), _mm_andnot_pd(nz, (__m128d)r.z))};
 }
+#define MIKK_PAIRS 1
+#endif
 
-/* A member triangle's term of its fan's sum: angle * normalize(os projected);
- * zero-UV-area triangles have none. */
-static d3 fan_term(const mikk *k, size_t t, int c)
+static void fan_terms(const mikk *k, const int32_t *mem, const uint8_t *corner, size_t n, d3 *term)
 {
     const bgt_mikk_mesh *m = k->m;
-    d3 nn = nrm(m, m->indices[3 * t + (size_t)c]);
-    d3 os = d3_tangential(k->os[t], nn);
-    return d3_scale(os, projected_angle(k, t, c, nn));
+    const float *px = m->px, *py = m->py, *pz = m->pz;
+    const float *nx = m->nx, *ny = m->ny, *nz = m->nz;
+    const uint32_t *idx = m->indices;
+    const d3 *os = k->os;
+#if defined(MIKK_PAIRS)
+    for (size_t i0 = 0; i0 < n; i0 += 2) {
+        size_t i1 = i0 + 1 < n ? i0 + 1 : i0;
+        size_t t0 = (size_t)mem[i0], t1 = (size_t)mem[i1];
+        int c0 = corner[i0], c1 = corner[i1];
+        const uint32_t *x0 = idx + 3 * t0, *x1 = idx + 3 * t1;
+        uint32_t v0 = x0[c0], a0 = x0[prev3[c0]], b0 = x0[next3[c0]];
+        uint32_t v1 = x1[c1], a1 = x1[prev3[c1]], b1 = x1[next3[c1]];
+        v3 nn = {{nx[v0], nx[v1]}, {ny[v0], ny[v1]}, {nz[v0], nz[v1]}};
+        v3 o = {{os[t0].x, os[t1].x}, {os[t0].y, os[t1].y}, {os[t0].z, os[t1].z}};
+        v3 p = {{px[v0], px[v1]}, {py[v0], py[v1]}, {pz[v0], pz[v1]}};
+        v3 ea = {(vd2){px[a0], px[a1]} - p.x, (vd2){py[a0], py[a1]} - p.y,
+                 (vd2){pz[a0], pz[a1]} - p.z};
+        v3 eb = {(vd2){px[b0], px[b1]} - p.x, (vd2){py[b0], py[b1]} - p.y,
+                 (vd2){pz[b0], pz[b1]} - p.z};
+        o = v3_tangential(o, nn);
+        ea = v3_tangential(ea, nn);
+        eb = v3_tangential(eb, nn);
+        vd2 cs = ea.x * eb.x + ea.y * eb.y + ea.z * eb.z;
+        for (int l = 0; l < 2 && i0 + (size_t)l < n; l++) {
+            if (k->flags[mem[i0 + (size_t)l]] & TRI_ANY)
+                continue;
+            double c = cs[l];
+            double ang = acos(c < -1.0 ? -1.0 : c > 1.0 ? 1.0 : c);
+            term[i0 + (size_t)l] = (d3){o.x[l] * ang, o.y[l] * ang, o.z[l] * ang};
+        }
+    }
+#else
+    for (size_t i = 0; i < n; i++) {
+        size_t t = (size_t)mem[i];
+        int c = corner[i];
+        if (k->flags[t] & TRI_ANY)
+            continue;
+        const uint32_t *ix = idx + 3 * t;
+        uint32_t v0 = ix[c], va = ix[prev3[c]], vb = ix[next3[c]];
+        d3 nn = {nx[v0], ny[v0], nz[v0]}, p = {px[v0], py[v0], pz[v0]};
+        d3 o = d3_tangential(os[t], nn);
+        d3 ea = d3_tangential(d3_sub((d3){px[va], py[va], pz[va]}, p), nn);
+        d3 eb = d3_tangential(d3_sub((d3){px[vb], py[vb], pz[vb]}, p), nn);
+        double cs = d3_dot(ea, eb);
+        term[i] = d3_scale(o, acos(cs < -1.0 ? -1.0 : cs > 1.0 ? 1.0 : cs));
+    }
+#endif
 }
 
 /* The tangent of the members list[0..n-1] (indices into the fan's terms):
@@ -520,23 +616,151 @@ static void whole_fan(const mikk *k, const int32_t *mem, const d3 *term, const u
  * threshold at its default of 180 degrees) and write the tangents of its
  * corners. */
 #define MIKK_SPLIT_MAX 256
+
+/* A cheap sufficient test that no pair of the fan splits (the usual case),
+ * which spares the float projections, normalizations and the n^2 cosines of
+ * the exact test: the projections r = v - n (n . v) of every member's float
+ * directions (computed as f3_tangential computes them, before its
+ * normalization) within 60 degrees of the first member's, tested without a
+ * square root as d > 0 and d^2 > |r|^2 |r0|^2 / 4 with d = r . r0. Two such
+ * directions are at most about 120 degrees apart, so their normalized float
+ * cosine is near -0.5, far above -1 whatever the float rounding. Anything
+ * else (a member beyond 60 degrees, a projection too short or too long for
+ * these squares to be exact to a few ulps: |r|^2 outside [1e-12, 1e12];
+ * NaN) answers "may split", and the exact test decides. */
+#if defined(__GNUC__) && defined(__SSE2__)
+/* The same test, four members at a time (SSE float lanes). */
+static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t *corner)
+{
+    const bgt_mikk_mesh *m = k->m;
+    const float *nxs = m->nx, *nys = m->ny, *nzs = m->nz;
+    const uint32_t *idx = m->indices;
+    const uint8_t *flags = k->flags;
+    const f3 *fos = k->fos, *fot = k->fot;
+    size_t first = 0;
+    while (first < n && (flags[mem[first]] & TRI_ANY))
+        first++;
+    if (first >= n)
+        return 0;
+    __m128 s0x = _mm_setzero_ps(), s0y = s0x, s0z = s0x, t0x = s0x, t0y = s0x, t0z = s0x,
+           ls0 = s0x, lt0 = s0x;
+    const __m128 lo = _mm_set1_ps(1e-12f), hi = _mm_set1_ps(1e12f), zero = _mm_setzero_ps(),
+                 quarter = _mm_set1_ps(0.25f);
+    int ok = 1;
+    for (size_t i0 = first; i0 < n && ok; i0 += 4) {
+        size_t il[4];
+        int dead[4];
+        for (int l = 0; l < 4; l++) {
+            size_t i = i0 + (size_t)l < n ? i0 + (size_t)l : first;
+            il[l] = (size_t)mem[i];
+            dead[l] = !(i0 + (size_t)l < n) || (flags[il[l]] & TRI_ANY);
+            il[l] = il[l] << 2 | corner[i];
+        }
+        /* lanes built from scalars (not stored and reloaded: a 16-byte load
+         * of four 4-byte stores stalls) */
+#define MIKK_G(arr, f) _mm_set_ps(arr[L(3)] f, arr[L(2)] f, arr[L(1)] f, arr[L(0)] f)
+#define L(l) (il[l] >> 2)
+        __m128 ax = MIKK_G(fos, .x), ay = MIKK_G(fos, .y), az = MIKK_G(fos, .z);
+        __m128 bx = MIKK_G(fot, .x), by = MIKK_G(fot, .y), bz = MIKK_G(fot, .z);
+#undef L
+        uint32_t vi[4];
+        for (int l = 0; l < 4; l++)
+            vi[l] = idx[3 * (il[l] >> 2) + (il[l] & 3)];
+#define L(l) vi[l]
+        __m128 nx = MIKK_G(nxs, ), ny = MIKK_G(nys, ), nz = MIKK_G(nzs, );
+#undef L
+#undef MIKK_G
+        __m128 deadm = _mm_castsi128_ps(_mm_set_epi32(-dead[3], -dead[2], -dead[1], -dead[0]));
+        __m128 da = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, ax), _mm_mul_ps(ny, ay)), _mm_mul_ps(nz, az));
+        __m128 db = _mm_add_ps(_mm_add_ps(_mm_mul_ps(nx, bx), _mm_mul_ps(ny, by)), _mm_mul_ps(nz, bz));
+        __m128 sx = _mm_sub_ps(ax, _mm_mul_ps(da, nx)), sy = _mm_sub_ps(ay, _mm_mul_ps(da, ny)),
+               sz = _mm_sub_ps(az, _mm_mul_ps(da, nz));
+        __m128 tx = _mm_sub_ps(bx, _mm_mul_ps(db, nx)), ty = _mm_sub_ps(by, _mm_mul_ps(db, ny)),
+               tz = _mm_sub_ps(bz, _mm_mul_ps(db, nz));
+        __m128 ls = _mm_add_ps(_mm_add_ps(_mm_mul_ps(sx, sx), _mm_mul_ps(sy, sy)), _mm_mul_ps(sz, sz));
+        __m128 lt = _mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, tx), _mm_mul_ps(ty, ty)), _mm_mul_ps(tz, tz));
+        if (i0 == first) { /* lane 0 is the first member: the reference */
+            s0x = _mm_shuffle_ps(sx, sx, 0), s0y = _mm_shuffle_ps(sy, sy, 0);
+            s0z = _mm_shuffle_ps(sz, sz, 0), t0x = _mm_shuffle_ps(tx, tx, 0);
+            t0y = _mm_shuffle_ps(ty, ty, 0), t0z = _mm_shuffle_ps(tz, tz, 0);
+            ls0 = _mm_shuffle_ps(ls, ls, 0), lt0 = _mm_shuffle_ps(lt, lt, 0);
+        }
+        __m128 ds = _mm_add_ps(_mm_add_ps(_mm_mul_ps(sx, s0x), _mm_mul_ps(sy, s0y)), _mm_mul_ps(sz, s0z));
+        __m128 dt = _mm_add_ps(_mm_add_ps(_mm_mul_ps(tx, t0x), _mm_mul_ps(ty, t0y)), _mm_mul_ps(tz, t0z));
+        __m128 good = _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(ls, lo), _mm_cmple_ps(ls, hi)),
+                                 _mm_and_ps(_mm_cmpge_ps(lt, lo), _mm_cmple_ps(lt, hi)));
+        good = _mm_and_ps(good, _mm_and_ps(_mm_cmpgt_ps(ds, zero), _mm_cmpgt_ps(dt, zero)));
+        good = _mm_and_ps(good, _mm_cmpgt_ps(_mm_mul_ps(ds, ds), _mm_mul_ps(quarter, _mm_mul_ps(ls, ls0))));
+        good = _mm_and_ps(good, _mm_cmpgt_ps(_mm_mul_ps(dt, dt), _mm_mul_ps(quarter, _mm_mul_ps(lt, lt0))));
+        /* lanes of zero-UV-area members and past the end pass */
+        good = _mm_or_ps(good, deadm);
+        ok = _mm_movemask_ps(good) == 15;
+    }
+    return !ok;
+}
+#else
+static int proj_ok(float l) { return l >= 1e-12f && l <= 1e12f; }
+static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t *corner)
+{
+    const bgt_mikk_mesh *m = k->m;
+    const float *nxs = m->nx, *nys = m->ny, *nzs = m->nz;
+    const uint32_t *idx = m->indices;
+    const uint8_t *flags = k->flags;
+    const f3 *fos = k->fos, *fot = k->fot;
+    float s0x = 0, s0y = 0, s0z = 0, t0x = 0, t0y = 0, t0z = 0, ls0 = 0, lt0 = 0;
+    int have = 0;
+    for (size_t i = 0; i < n; i++) {
+        size_t t = (size_t)mem[i];
+        if (flags[t] & TRI_ANY)
+            continue;
+        uint32_t vi = idx[3 * t + corner[i]];
+        float nx = nxs[vi], ny = nys[vi], nz = nzs[vi];
+        float ax = fos[t].x, ay = fos[t].y, az = fos[t].z;
+        float bx = fot[t].x, by = fot[t].y, bz = fot[t].z;
+        float da = nx * ax + ny * ay + nz * az, db = nx * bx + ny * by + nz * bz;
+        float sx = ax - da * nx, sy = ay - da * ny, sz = az - da * nz;
+        float tx = bx - db * nx, ty = by - db * ny, tz = bz - db * nz;
+        float ls = sx * sx + sy * sy + sz * sz, lt = tx * tx + ty * ty + tz * tz;
+        if (!proj_ok(ls) || !proj_ok(lt))
+            return 1;
+        if (!have) {
+            s0x = sx, s0y = sy, s0z = sz, t0x = tx, t0y = ty, t0z = tz;
+            ls0 = ls, lt0 = lt;
+            have = 1;
+            continue;
+        }
+        float ds = sx * s0x + sy * s0y + sz * s0z, dt = tx * t0x + ty * t0y + tz * t0z;
+        if (!(ds > 0.0f && ds * ds > 0.25f * (ls * ls0) && dt > 0.0f &&
+              dt * dt > 0.25f * (lt * lt0)))
+            return 1;
+    }
+    return 0;
+}
+#endif
+
 /* scratch: the member lists of the distinct subfans, each preceded by its
  * length (at most MIKK_SPLIT_MAX lists of MIKK_SPLIT_MAX) */
 #define MIKK_SCRATCH ((size_t)MIKK_SPLIT_MAX * (MIKK_SPLIT_MAX + 1))
+static void fan_split(const mikk *k, mikk_worker *wk, const int32_t *mem, size_t n, float w,
+                      float *out, const d3 *term, const uint8_t *corner);
 static void fan_output(const mikk *k, mikk_worker *wk, const int32_t *mem, size_t n, int pres,
                        float *out, d3 *term, const uint8_t *corner)
 {
-    const bgt_mikk_mesh *m = k->m;
     float w = pres ? 1.0f : -1.0f;
-    for (size_t i = 0; i < n; i++) {
-        size_t t = (size_t)mem[i];
-        if (!(k->flags[t] & TRI_ANY))
-            term[i] = fan_term(k, t, corner[i]);
-    }
-    if (n > MIKK_SPLIT_MAX) {
+    fan_terms(k, mem, corner, n, term);
+    if (n > MIKK_SPLIT_MAX || !may_split(k, mem, n, corner))
         whole_fan(k, mem, term, corner, n, w, out);
-        return;
-    }
+    else
+        fan_split(k, wk, mem, n, w, out, term, corner);
+}
+
+/* The exact test of rule 5 and, where a pair points opposite, the subfans. */
+__attribute__((noinline)) static void fan_split(const mikk *k, mikk_worker *wk,
+                                                const int32_t *mem, size_t n, float w,
+                                                float *out, const d3 *term,
+                                                const uint8_t *corner)
+{
+    const bgt_mikk_mesh *m = k->m;
     f3 ps[MIKK_SPLIT_MAX], pt[MIKK_SPLIT_MAX];
     uint8_t anyf[MIKK_SPLIT_MAX];
     for (size_t i = 0; i < n; i++) {
@@ -550,9 +774,9 @@ static void fan_output(const mikk *k, mikk_worker *wk, const int32_t *mem, size_
      * so only a float cosine that rounds to -1 splits */
     const float pi_f = 3.14159265358979323846f;
     const float opposite = (float)cos((180.0f * pi_f) / 180.0f);
-    /* The usual case: no pair points opposite, so every member's subfan is
-     * the whole fan (the test is symmetric: a float dot product does not
-     * depend on the order of its operands). */
+    /* No pair points opposite, so every member's subfan is the whole fan
+     * (the test is symmetric: a float dot product does not depend on the
+     * order of its operands). */
     int split = 0;
     for (size_t i = 0; i < n && !split; i++) {
         if (anyf[i])
@@ -604,9 +828,8 @@ static void fan_output(const mikk *k, mikk_worker *wk, const int32_t *mem, size_
 /* One fan from its seed corner: grown, then its tangents written. */
 static void seed_fan(mikk *k, mikk_worker *w, size_t t, int c)
 {
-    uint32_t vert = wv(k, 3 * t + (size_t)c);
     int pres = (k->flags[t] & TRI_PRESERVING) != 0;
-    size_t n = grow_fan(k, w, vert, pres, t, c);
+    size_t n = grow_fan(k, w, pres, t, c);
     fan_output(k, w, w->members, n, pres, k->out, w->term, w->corner);
     w->fans++;
 }
@@ -631,9 +854,12 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
                     seed_fan(k, w, t, (int)(cs[i] % 3));
             }
         int64_t first = -1;
+        int degenerate = 0;
         for (size_t i = 0; i < nc; i++) {
-            if (k->flags[cs[i] / 3] & TRI_DEGENERATE)
+            if (k->flags[cs[i] / 3] & TRI_DEGENERATE) {
+                degenerate = 1;
                 continue;
+            }
             if (first < 0)
                 first = cs[i];
             if (!k->grouped[cs[i]]) {
@@ -641,7 +867,7 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
                 w->unreached++;
             }
         }
-        for (size_t i = 0; i < nc; i++) {
+        for (size_t i = 0; degenerate && i < nc; i++) {
             if (!(k->flags[cs[i] / 3] & TRI_DEGENERATE))
                 continue;
             if (first >= 0)
