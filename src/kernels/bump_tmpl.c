@@ -1029,6 +1029,12 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
  * octave's lattice and whether it is seeded, and unseeded with zseam 2 (small
  * z periods) apart, so that each loop body has no test of them
  * (octave_cell_k; -1: read from L). */
+/* The zseam 2 of the periodic gradient loop: a vocabulary may give it a
+ * value of its own (nonzero, not -1) to compile that loop differently
+ * (vec_avx2.h bg_hashp_bytes). */
+#ifndef BG_ZSEAM_GRAD2
+#define BG_ZSEAM_GRAD2 2
+#endif
 #define BG_DNOISE_KIND(LOOP)                                                                   \
     do {                                                                                       \
         int k_ = L.tiled ? L.kind[0] : OCT_PLAIN;                                              \
@@ -1063,7 +1069,7 @@ void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real 
 #define DNOISE_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
 #define DNOISE_GRAD_LOOP(kind, seeded, zs)                                                     \
     {                                                                                          \
-        const int kind_ = kind, seeded_ = seeded, zs_ = zs;                                    \
+        const int kind_ = kind, seeded_ = seeded, zs_ = (zs) == 2 ? BG_ZSEAM_GRAD2 : (zs);     \
         BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)                   \
         BG_DNOISE_REST(i0, BG_VEC_N(n), 1, store_corner(r, i, c, v, gx, gy, gz));              \
     }
