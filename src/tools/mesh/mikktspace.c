@@ -224,13 +224,36 @@ static void weld_part(void *ctx, size_t b, size_t e, int worker)
 /* weld[i] = smallest vertex index with the same attributes; `used` marks the
  * vertices the triangles reference. Returns the number of distinct referenced
  * vertices, or (size_t)-1 out of memory. */
+typedef struct weld_init_job {
+    mikk *k;
+    const uint8_t *used;
+    size_t *nu; /* per worker */
+} weld_init_job;
+
+/* weld[i] = i (first touched by the workers) and the count of used vertices. */
+static void weld_init(void *ctx, size_t b, size_t e, int worker)
+{
+    const weld_init_job *j = ctx;
+    uint32_t *weld = j->k->weld;
+    size_t nu = 0;
+    for (size_t i = b; i < e; i++) {
+        nu += j->used[i];
+        weld[i] = (uint32_t)i;
+    }
+    j->nu[worker] += nu;
+}
+
 static size_t weld_vertices(mikk *k, const uint8_t *used)
 {
     size_t nv = k->nv, nu = 0;
-    for (size_t i = 0; i < nv; i++) {
-        nu += used[i];
-        k->weld[i] = (uint32_t)i;
-    }
+    size_t *nuw = calloc((size_t)k->threads, sizeof *nuw);
+    if (!nuw)
+        return (size_t)-1;
+    weld_init_job ij = {k, used, nuw};
+    bgt_parallel_for(nv, 65536, k->threads, weld_init, &ij);
+    for (int t = 0; t < k->threads; t++)
+        nu += nuw[t];
+    free(nuw);
     size_t parts = (size_t)k->threads, region = 16;
     while (region * parts < 2 * nu)
         region *= 2;
@@ -908,27 +931,82 @@ static void csr_part(void *ctx, size_t b, size_t e, int worker)
     }
 }
 
-static int corners_by_vertex(mikk *k)
+/* The prefix sum over the vertices in two levels: blocks of vertices sum
+ * their counts in parallel, one short serial scan gives each block its start,
+ * then the blocks write their starts in parallel (the same sums as one pass).
+ * The largest valence comes out of the first level. */
+#define MIKK_CSR_BLOCK 16384
+typedef struct csr_scan {
+    mikk *k;
+    uint32_t *cnt;
+    size_t parts;
+    uint32_t *sum, *maxv; /* per block */
+    int fill;
+} csr_scan;
+
+static void csr_scan_blocks(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    const csr_scan *j = ctx;
+    size_t nv = j->k->nv;
+    uint32_t *cnt = j->cnt, *v_start = j->k->v_start;
+    for (size_t blk = b; blk < e; blk++) {
+        size_t v0 = blk * MIKK_CSR_BLOCK, v1 = v0 + MIKK_CSR_BLOCK < nv ? v0 + MIKK_CSR_BLOCK : nv;
+        if (!j->fill) {
+            uint32_t sum = 0, mx = 0;
+            for (size_t v = v0; v < v1; v++) {
+                uint32_t n = 0;
+                for (size_t p = 0; p < j->parts; p++)
+                    n += cnt[p * nv + v];
+                sum += n;
+                mx = n > mx ? n : mx;
+            }
+            j->sum[blk] = sum;
+            j->maxv[blk] = mx;
+        } else {
+            uint32_t at = j->sum[blk];
+            for (size_t v = v0; v < v1; v++) {
+                v_start[v] = at;
+                for (size_t p = 0; p < j->parts; p++) {
+                    uint32_t n = cnt[p * nv + v];
+                    cnt[p * nv + v] = at;
+                    at += n;
+                }
+            }
+        }
+    }
+}
+
+static int corners_by_vertex(mikk *k, size_t *maxv)
 {
     size_t nv = k->nv, nc = 3 * k->T;
     size_t parts = k->threads < MIKK_CSR_PARTS ? (size_t)k->threads : MIKK_CSR_PARTS;
+    size_t blocks = (nv + MIKK_CSR_BLOCK - 1) / MIKK_CSR_BLOCK;
     csr_job j = {k, calloc(parts * nv, sizeof *j.cnt), (nc + parts - 1) / parts, 0};
-    if (!j.cnt)
+    uint32_t *bs = malloc(2 * (blocks + 1) * sizeof *bs);
+    if (!j.cnt || !bs) {
+        free(j.cnt);
+        free(bs);
         return -1;
-    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
-    uint32_t at = 0;
-    for (size_t v = 0; v < nv; v++) {
-        k->v_start[v] = at;
-        for (size_t p = 0; p < parts; p++) {
-            uint32_t n = j.cnt[p * nv + v];
-            j.cnt[p * nv + v] = at;
-            at += n;
-        }
     }
+    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
+    csr_scan sc = {k, j.cnt, parts, bs, bs + blocks + 1, 0};
+    bgt_parallel_for(blocks, 1, k->threads, csr_scan_blocks, &sc);
+    uint32_t at = 0, mx = 0;
+    for (size_t blk = 0; blk < blocks; blk++) {
+        uint32_t n = sc.sum[blk];
+        sc.sum[blk] = at;
+        at += n;
+        mx = sc.maxv[blk] > mx ? sc.maxv[blk] : mx;
+    }
+    sc.fill = 1;
+    bgt_parallel_for(blocks, 1, k->threads, csr_scan_blocks, &sc);
     k->v_start[nv] = at;
+    *maxv = mx;
     j.place = 1;
     bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
     free(j.cnt);
+    free(bs);
     return 0;
 }
 
@@ -1017,12 +1095,9 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     if (st.welded_vertices == (size_t)-1 || !k.w)
         goto done;
     bgt_parallel_for(T, 8192, k.threads, classify_chunk, &k);
-    if (corners_by_vertex(&k) != 0)
-        goto done;
     size_t maxv = 0;
-    for (size_t v = 0; v < nv; v++)
-        if (k.v_start[v + 1] - k.v_start[v] > maxv)
-            maxv = k.v_start[v + 1] - k.v_start[v];
+    if (corners_by_vertex(&k, &maxv) != 0)
+        goto done;
     if (alloc_workers(&k, maxv) != 0)
         goto done;
     bgt_parallel_for(nv, 4096, k.threads, neighbours_chunk, &k);
