@@ -16,6 +16,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include "common/parallel.h"
@@ -147,6 +148,31 @@ static void vertex_keys(const bgt_mikk_mesh *m, size_t i, uint32_t key[8], int *
     }
 }
 
+/* used[i] = 1 for each vertex a triangle references, marked by the workers
+ * (relaxed atomic byte stores: plain stores on common targets); an index out
+ * of range sets `bad`. */
+typedef _Atomic uint8_t mark8;
+typedef struct mark_job {
+    const uint32_t *idx;
+    size_t nv;
+    mark8 *used;
+    atomic_int bad;
+} mark_job;
+
+static void mark_used(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    mark_job *j = ctx;
+    for (size_t c = b; c < e; c++) {
+        uint32_t i = j->idx[c];
+        if (i >= j->nv) {
+            atomic_store_explicit(&j->bad, 1, memory_order_relaxed);
+            return;
+        }
+        atomic_store_explicit(&j->used[i], 1, memory_order_relaxed);
+    }
+}
+
 typedef struct weld_job {
     const bgt_mikk_mesh *m;
     uint32_t *hash; /* UINT32_MAX marks a NaN vertex (a hash of UINT32_MAX is remapped) */
@@ -177,7 +203,7 @@ static void weld_hashes(void *ctx, size_t b, size_t e, int worker)
  * parts run in parallel and the result is that of one table. */
 typedef struct weld_part_job {
     mikk *k;
-    const uint8_t *used;
+    const mark8 *used;
     const uint32_t *hash;
     uint32_t *table; /* vertex + 1, 0 = empty */
     size_t parts, region;
@@ -194,7 +220,7 @@ static void weld_part(void *ctx, size_t b, size_t e, int worker)
         size_t mask = j->region - 1, merged = 0;
         for (size_t i = 0; i < k->nv; i++) {
             uint32_t h = j->hash[i];
-            if (!j->used[i] || h == UINT32_MAX || h % j->parts != p)
+            if (!atomic_load_explicit(&j->used[i], memory_order_relaxed) || h == UINT32_MAX || h % j->parts != p)
                 continue;
             uint32_t ki[8], ko[8];
             int nan, have = 0;
@@ -226,7 +252,7 @@ static void weld_part(void *ctx, size_t b, size_t e, int worker)
  * vertices, or (size_t)-1 out of memory. */
 typedef struct weld_init_job {
     mikk *k;
-    const uint8_t *used;
+    const mark8 *used;
     size_t *nu; /* per worker */
 } weld_init_job;
 
@@ -237,13 +263,13 @@ static void weld_init(void *ctx, size_t b, size_t e, int worker)
     uint32_t *weld = j->k->weld;
     size_t nu = 0;
     for (size_t i = b; i < e; i++) {
-        nu += j->used[i];
+        nu += atomic_load_explicit(&j->used[i], memory_order_relaxed);
         weld[i] = (uint32_t)i;
     }
     j->nu[worker] += nu;
 }
 
-static size_t weld_vertices(mikk *k, const uint8_t *used)
+static size_t weld_vertices(mikk *k, const mark8 *used)
 {
     size_t nv = k->nv, nu = 0;
     size_t *nuw = calloc((size_t)k->threads, sizeof *nuw);
@@ -1061,19 +1087,25 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
         return BG_ERR_NULL_POINTER;
     if (T > (size_t)INT32_MAX / 3 || m->vertex_count > UINT32_MAX)
         return BG_ERR_INVALID_ARGUMENT;
-    for (size_t c = 0; c < 3 * T; c++)
-        if (m->indices[c] >= m->vertex_count)
-            return BG_ERR_INVALID_ARGUMENT;
+    size_t nv = m->vertex_count;
+    mark8 *used = calloc(nv ? nv : 1, sizeof *used);
+    if (!used)
+        return BG_ERR_OUT_OF_MEMORY;
+    int threads_used = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
+    mark_job mj = {m->indices, nv, used, 0};
+    bgt_parallel_for(3 * T, 65536, threads_used, mark_used, &mj);
+    if (atomic_load(&mj.bad)) {
+        free((void *)used);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
 
     mikk k;
     memset(&k, 0, sizeof k);
     k.m = m;
     k.T = T;
     k.out = out;
-    k.threads = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
-    size_t nv = m->vertex_count;
+    k.threads = threads_used;
     k.nv = nv;
-    uint8_t *used = calloc(nv, 1);
     k.weld = big_alloc(nv * sizeof *k.weld);
     k.wc = big_alloc(3 * T * sizeof *k.wc);
     k.flags = malloc(T);
@@ -1085,11 +1117,9 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     k.v_start = malloc((nv + 1) * sizeof *k.v_start);
     k.v_corner = big_alloc(3 * T * sizeof *k.v_corner);
     bg_status rc = BG_ERR_OUT_OF_MEMORY;
-    if (!used || !k.weld || !k.wc || !k.flags || !k.os || !k.fos || !k.fot || !k.nb ||
+    if (!k.weld || !k.wc || !k.flags || !k.os || !k.fos || !k.fot || !k.nb ||
         !k.grouped || !k.v_start || !k.v_corner)
         goto done;
-    for (size_t c = 0; c < 3 * T; c++)
-        used[m->indices[c]] = 1;
     st.welded_vertices = weld_vertices(&k, used);
     k.w = calloc((size_t)k.threads, sizeof *k.w);
     if (st.welded_vertices == (size_t)-1 || !k.w)
@@ -1135,7 +1165,7 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     }
     rc = BG_OK;
 done:
-    free(used);
+    free((void *)used);
     free(k.weld);
     free(k.wc);
     free(k.flags);
