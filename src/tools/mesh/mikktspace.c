@@ -16,6 +16,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include "common/parallel.h"
@@ -147,6 +148,31 @@ static void vertex_keys(const bgt_mikk_mesh *m, size_t i, uint32_t key[8], int *
     }
 }
 
+/* used[i] = 1 for each vertex a triangle references, marked by the workers
+ * (relaxed atomic byte stores: plain stores on common targets); an index out
+ * of range sets `bad`. */
+typedef _Atomic uint8_t mark8;
+typedef struct mark_job {
+    const uint32_t *idx;
+    size_t nv;
+    mark8 *used;
+    atomic_int bad;
+} mark_job;
+
+static void mark_used(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    mark_job *j = ctx;
+    for (size_t c = b; c < e; c++) {
+        uint32_t i = j->idx[c];
+        if (i >= j->nv) {
+            atomic_store_explicit(&j->bad, 1, memory_order_relaxed);
+            return;
+        }
+        atomic_store_explicit(&j->used[i], 1, memory_order_relaxed);
+    }
+}
+
 typedef struct weld_job {
     const bgt_mikk_mesh *m;
     uint32_t *hash; /* UINT32_MAX marks a NaN vertex (a hash of UINT32_MAX is remapped) */
@@ -177,7 +203,7 @@ static void weld_hashes(void *ctx, size_t b, size_t e, int worker)
  * parts run in parallel and the result is that of one table. */
 typedef struct weld_part_job {
     mikk *k;
-    const uint8_t *used;
+    const mark8 *used;
     const uint32_t *hash;
     uint32_t *table; /* vertex + 1, 0 = empty */
     size_t parts, region;
@@ -194,7 +220,7 @@ static void weld_part(void *ctx, size_t b, size_t e, int worker)
         size_t mask = j->region - 1, merged = 0;
         for (size_t i = 0; i < k->nv; i++) {
             uint32_t h = j->hash[i];
-            if (!j->used[i] || h == UINT32_MAX || h % j->parts != p)
+            if (!atomic_load_explicit(&j->used[i], memory_order_relaxed) || h == UINT32_MAX || h % j->parts != p)
                 continue;
             uint32_t ki[8], ko[8];
             int nan, have = 0;
@@ -224,13 +250,36 @@ static void weld_part(void *ctx, size_t b, size_t e, int worker)
 /* weld[i] = smallest vertex index with the same attributes; `used` marks the
  * vertices the triangles reference. Returns the number of distinct referenced
  * vertices, or (size_t)-1 out of memory. */
-static size_t weld_vertices(mikk *k, const uint8_t *used)
+typedef struct weld_init_job {
+    mikk *k;
+    const mark8 *used;
+    size_t *nu; /* per worker */
+} weld_init_job;
+
+/* weld[i] = i (first touched by the workers) and the count of used vertices. */
+static void weld_init(void *ctx, size_t b, size_t e, int worker)
+{
+    const weld_init_job *j = ctx;
+    uint32_t *weld = j->k->weld;
+    size_t nu = 0;
+    for (size_t i = b; i < e; i++) {
+        nu += atomic_load_explicit(&j->used[i], memory_order_relaxed);
+        weld[i] = (uint32_t)i;
+    }
+    j->nu[worker] += nu;
+}
+
+static size_t weld_vertices(mikk *k, const mark8 *used)
 {
     size_t nv = k->nv, nu = 0;
-    for (size_t i = 0; i < nv; i++) {
-        nu += used[i];
-        k->weld[i] = (uint32_t)i;
-    }
+    size_t *nuw = calloc((size_t)k->threads, sizeof *nuw);
+    if (!nuw)
+        return (size_t)-1;
+    weld_init_job ij = {k, used, nuw};
+    bgt_parallel_for(nv, 65536, k->threads, weld_init, &ij);
+    for (int t = 0; t < k->threads; t++)
+        nu += nuw[t];
+    free(nuw);
     size_t parts = (size_t)k->threads, region = 16;
     while (region * parts < 2 * nu)
         region *= 2;
@@ -908,27 +957,82 @@ static void csr_part(void *ctx, size_t b, size_t e, int worker)
     }
 }
 
-static int corners_by_vertex(mikk *k)
+/* The prefix sum over the vertices in two levels: blocks of vertices sum
+ * their counts in parallel, one short serial scan gives each block its start,
+ * then the blocks write their starts in parallel (the same sums as one pass).
+ * The largest valence comes out of the first level. */
+#define MIKK_CSR_BLOCK 16384
+typedef struct csr_scan {
+    mikk *k;
+    uint32_t *cnt;
+    size_t parts;
+    uint32_t *sum, *maxv; /* per block */
+    int fill;
+} csr_scan;
+
+static void csr_scan_blocks(void *ctx, size_t b, size_t e, int worker)
+{
+    (void)worker;
+    const csr_scan *j = ctx;
+    size_t nv = j->k->nv;
+    uint32_t *cnt = j->cnt, *v_start = j->k->v_start;
+    for (size_t blk = b; blk < e; blk++) {
+        size_t v0 = blk * MIKK_CSR_BLOCK, v1 = v0 + MIKK_CSR_BLOCK < nv ? v0 + MIKK_CSR_BLOCK : nv;
+        if (!j->fill) {
+            uint32_t sum = 0, mx = 0;
+            for (size_t v = v0; v < v1; v++) {
+                uint32_t n = 0;
+                for (size_t p = 0; p < j->parts; p++)
+                    n += cnt[p * nv + v];
+                sum += n;
+                mx = n > mx ? n : mx;
+            }
+            j->sum[blk] = sum;
+            j->maxv[blk] = mx;
+        } else {
+            uint32_t at = j->sum[blk];
+            for (size_t v = v0; v < v1; v++) {
+                v_start[v] = at;
+                for (size_t p = 0; p < j->parts; p++) {
+                    uint32_t n = cnt[p * nv + v];
+                    cnt[p * nv + v] = at;
+                    at += n;
+                }
+            }
+        }
+    }
+}
+
+static int corners_by_vertex(mikk *k, size_t *maxv)
 {
     size_t nv = k->nv, nc = 3 * k->T;
     size_t parts = k->threads < MIKK_CSR_PARTS ? (size_t)k->threads : MIKK_CSR_PARTS;
+    size_t blocks = (nv + MIKK_CSR_BLOCK - 1) / MIKK_CSR_BLOCK;
     csr_job j = {k, calloc(parts * nv, sizeof *j.cnt), (nc + parts - 1) / parts, 0};
-    if (!j.cnt)
+    uint32_t *bs = malloc(2 * (blocks + 1) * sizeof *bs);
+    if (!j.cnt || !bs) {
+        free(j.cnt);
+        free(bs);
         return -1;
-    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
-    uint32_t at = 0;
-    for (size_t v = 0; v < nv; v++) {
-        k->v_start[v] = at;
-        for (size_t p = 0; p < parts; p++) {
-            uint32_t n = j.cnt[p * nv + v];
-            j.cnt[p * nv + v] = at;
-            at += n;
-        }
     }
+    bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
+    csr_scan sc = {k, j.cnt, parts, bs, bs + blocks + 1, 0};
+    bgt_parallel_for(blocks, 1, k->threads, csr_scan_blocks, &sc);
+    uint32_t at = 0, mx = 0;
+    for (size_t blk = 0; blk < blocks; blk++) {
+        uint32_t n = sc.sum[blk];
+        sc.sum[blk] = at;
+        at += n;
+        mx = sc.maxv[blk] > mx ? sc.maxv[blk] : mx;
+    }
+    sc.fill = 1;
+    bgt_parallel_for(blocks, 1, k->threads, csr_scan_blocks, &sc);
     k->v_start[nv] = at;
+    *maxv = mx;
     j.place = 1;
     bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
     free(j.cnt);
+    free(bs);
     return 0;
 }
 
@@ -983,19 +1087,25 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
         return BG_ERR_NULL_POINTER;
     if (T > (size_t)INT32_MAX / 3 || m->vertex_count > UINT32_MAX)
         return BG_ERR_INVALID_ARGUMENT;
-    for (size_t c = 0; c < 3 * T; c++)
-        if (m->indices[c] >= m->vertex_count)
-            return BG_ERR_INVALID_ARGUMENT;
+    size_t nv = m->vertex_count;
+    mark8 *used = calloc(nv ? nv : 1, sizeof *used);
+    if (!used)
+        return BG_ERR_OUT_OF_MEMORY;
+    int threads_used = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
+    mark_job mj = {m->indices, nv, used, 0};
+    bgt_parallel_for(3 * T, 65536, threads_used, mark_used, &mj);
+    if (atomic_load(&mj.bad)) {
+        free((void *)used);
+        return BG_ERR_INVALID_ARGUMENT;
+    }
 
     mikk k;
     memset(&k, 0, sizeof k);
     k.m = m;
     k.T = T;
     k.out = out;
-    k.threads = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
-    size_t nv = m->vertex_count;
+    k.threads = threads_used;
     k.nv = nv;
-    uint8_t *used = calloc(nv, 1);
     k.weld = big_alloc(nv * sizeof *k.weld);
     k.wc = big_alloc(3 * T * sizeof *k.wc);
     k.flags = malloc(T);
@@ -1007,22 +1117,17 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     k.v_start = malloc((nv + 1) * sizeof *k.v_start);
     k.v_corner = big_alloc(3 * T * sizeof *k.v_corner);
     bg_status rc = BG_ERR_OUT_OF_MEMORY;
-    if (!used || !k.weld || !k.wc || !k.flags || !k.os || !k.fos || !k.fot || !k.nb ||
+    if (!k.weld || !k.wc || !k.flags || !k.os || !k.fos || !k.fot || !k.nb ||
         !k.grouped || !k.v_start || !k.v_corner)
         goto done;
-    for (size_t c = 0; c < 3 * T; c++)
-        used[m->indices[c]] = 1;
     st.welded_vertices = weld_vertices(&k, used);
     k.w = calloc((size_t)k.threads, sizeof *k.w);
     if (st.welded_vertices == (size_t)-1 || !k.w)
         goto done;
     bgt_parallel_for(T, 8192, k.threads, classify_chunk, &k);
-    if (corners_by_vertex(&k) != 0)
-        goto done;
     size_t maxv = 0;
-    for (size_t v = 0; v < nv; v++)
-        if (k.v_start[v + 1] - k.v_start[v] > maxv)
-            maxv = k.v_start[v + 1] - k.v_start[v];
+    if (corners_by_vertex(&k, &maxv) != 0)
+        goto done;
     if (alloc_workers(&k, maxv) != 0)
         goto done;
     bgt_parallel_for(nv, 4096, k.threads, neighbours_chunk, &k);
@@ -1060,7 +1165,7 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     }
     rc = BG_OK;
 done:
-    free(used);
+    free((void *)used);
     free(k.weld);
     free(k.wc);
     free(k.flags);
