@@ -197,13 +197,6 @@ static inline int vf_small22(vf a, vf b, vf c)
     vf m = _mm512_range_ps(_mm512_range_ps(a, b, 0x0b), c, 0x0b);
     return _mm512_cmp_ps_mask(m, _mm512_set1_ps(4194304.0f), _CMP_LT_OQ) == 0xffff;
 }
-/* Every cell in [-2^22, 2^22) (bump_tmpl.c lattice_pow2). */
-static inline int vi_small22(vi cx, vi cy, vi cz)
-{
-    const __m512i k = _mm512_set1_epi32(1 << 22);
-    __m512i t = _mm512_ternarylogic_epi32(_mm512_add_epi32(cx, k), _mm512_add_epi32(cy, k), _mm512_add_epi32(cz, k), 0xfe);
-    return _mm512_test_epi32_mask(t, _mm512_set1_epi32((int)0xff800000u)) == 0;
-}
 #else
 #endif
 /* bg_perm_pair[idx & 255]: vpgatherdd (the VBMI variant replaces the whole

@@ -422,11 +422,13 @@ static int cmp_u64(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* corner k's next (k + 1 mod 3) and previous (k + 2 mod 3) corner */
+static const uint8_t next3[3] = {1, 2, 0}, prev3[3] = {2, 0, 1};
+
 static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 {
     /* corner k of a triangle: the edge that leaves it is k, the one that
      * arrives is prev (k + 2 mod 3); next is k + 1 mod 3 */
-    static const uint8_t nx3[3] = {1, 2, 0}, pv3[3] = {2, 0, 1};
     mikk *k = ctx;
     uint64_t *ed = k->w[worker].edges;
     const uint32_t *vs = k->v_start, *vc = k->v_corner, *wc = k->wc;
@@ -435,11 +437,11 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
     for (size_t v = b; v < e; v++) {
         size_t n = 0;
         for (uint32_t i = vs[v], i1 = vs[v + 1]; i < i1; i++) {
-            uint32_t c = vc[i], t = c / 3, kc = c - 3 * t, kp = pv3[kc];
+            uint32_t c = vc[i], t = c / 3, kc = c - 3 * t, kp = prev3[kc];
             if (flags[t] & TRI_DEGENERATE)
                 continue;
             /* edge kc leaves v, edge kp arrives at it: in edge-number order */
-            uint32_t next = wc[3 * (size_t)t + nx3[kc]], prev = wc[3 * (size_t)t + kp];
+            uint32_t next = wc[3 * (size_t)t + next3[kc]], prev = wc[3 * (size_t)t + kp];
             uint64_t tk = (uint64_t)t << 2;
             if (kp < kc && prev > v)
                 ed[n++] = (uint64_t)prev << 32 | tk | kp;
@@ -474,7 +476,6 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
 
 /* ---- 4b. fans ---- */
 
-static const uint8_t next3[3] = {1, 2, 0}, prev3[3] = {2, 0, 1};
 
 /* The corner at the fan's vertex of the triangle across an edge of corner
  * c's triangle t: nb holds the matched edge (3 t' + k', from its corner k' to
