@@ -388,10 +388,12 @@ BG_INLINE vf lattice_per(vf x, bg_real P, bg_real invP, vi *c0, vi *c1)
 enum { OCT_PLAIN, OCT_POW2, OCT_ANY };
 typedef struct octlat {
     bg_real off[BG_MAX_OCTAVES][3], per[BG_MAX_OCTAVES][3], inv[BG_MAX_OCTAVES][3];
-    int32_t mask[BG_MAX_OCTAVES][3];
+    int32_t mask[BG_MAX_OCTAVES][3], pm1[BG_MAX_OCTAVES][3]; /* pm1: P - 1 */
     signed char kind[BG_MAX_OCTAVES], zseam[BG_MAX_OCTAVES];
     int tiled;  /* some period is set; else (a seed alone) the plain cells */
     int seeded; /* offsets to add (seed != 0); adding +0 would give the same bits */
+    int carry;  /* octave_cell_carry may carry the reduced cells (float only) */
+    bg_real carry_lim; /* its range: every |x| below (octave 0's coordinates) */
 } octlat;
 static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *d)
 {
@@ -412,6 +414,7 @@ static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *
             int p2 = (n & (n - 1)) == 0;
             pow2 &= p2, big &= p2 && n >= 256;
             L->mask[i][a] = (int32_t)((n < 256 ? n : 256) - 1);
+            L->pm1[i][a] = (int32_t)(n - 1);
             if (a == 2)
                 L->zseam[i] = (signed char)(p2 && n >= 256 ? 0 : n <= 64 ? 2 : 1);
         }
@@ -423,6 +426,17 @@ static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *
         L->kind[i] = (signed char)(big ? OCT_PLAIN : pow2 ? OCT_POW2 : OCT_ANY);
         freq *= lac;
     }
+    /* octave_cell_carry: an unseeded fractal with lacunarity 2 whose octaves
+     * are OCT_ANY (a period that is not a power of two; then every octave's
+     * is not). lim = 2^22 / 2^(octaves - 1) - 1, exact. */
+    L->carry = 0, L->carry_lim = 0;
+#ifndef BG_SCALAR_DOUBLE
+    if (L->tiled && !L->seeded && octaves >= 2 && octaves <= 22 && lac == 2 &&
+        L->kind[0] == OCT_ANY) {
+        L->carry = 1;
+        L->carry_lim = (bg_real)(4194304 >> (octaves - 1)) - 1;
+    }
+#endif
 }
 
 /* OCT_POW2's hashes from the unreduced cells c = floor(q) (vi_from_vf): the
@@ -541,6 +555,79 @@ BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real fr
     return octave_cell_k(L, i, x, y, z, freq, OCT_RUNTIME, -1, -1);
 }
 
+/* The reduced cells carried from octave to octave (the fractal loops; octlat's
+ * carry: no seed, lacunarity 2, OCT_ANY octaves). Octave i's point is q_i =
+ * 2^i q_0 exactly (freq is 2^i, the product exact), so floor(q_{i+1}) =
+ * 2 floor(q_i) + b with b in {0, 1}. With r_i = floor(q_i) mod P_i in [0, P_i)
+ * and P_{i+1} = 2 P_i, r_{i+1} = 2 r_i + b: the offset n_i = r_i - floor(q_i)
+ * (a multiple of P_i) doubles from octave to octave, n_i = 2^i n_0 = freq n_0.
+ * So octave 0 takes n_0 = -P floor((fl + 1/2) / P) by lattice_per's quotient
+ * (exact below 2^22) and every octave's cell is r_i = floor(q_i) + freq n_0,
+ * one fused multiply-add with an exact product and an exact sum (integers
+ * below 2^25), converted, and the next corner's vi_wrap1 of it: the same r
+ * and r + 1 (or 0 at the seam) as lattice_per's where that is exact,
+ * |floor(q_i)| < 2^22 in every octave. Octave 0 tests that for the whole
+ * vector once (|q_0| < carry_lim, false for NaN); a vector outside takes
+ * octave_cell in every octave. An untiled axis (period 256 in every octave,
+ * not 256 freq) still gets a multiple of 256 for freq n_0, and so its cells
+ * modulo 256, all the hash reads. */
+#ifndef BG_SCALAR_DOUBLE
+typedef struct octcarry {
+    vf n0[3];
+    int on;
+} octcarry;
+#define OCTCARRY_INIT(K) ((K).on = 0, (K).n0[0] = (K).n0[1] = (K).n0[2] = vf_set1(0))
+BG_INLINE vcell octave_cell_carry(const octlat *L, int i, vf x, vf y, vf z, bg_real freq,
+                                  octcarry *K)
+{
+    if (i == 0) {
+        vf lim = vf_set1(L->carry_lim);
+        K->on = vm_all(vm_and(vm_and(vf_lt(vf_abs(x), lim), vf_lt(vf_abs(y), lim)),
+                              vf_lt(vf_abs(z), lim)));
+    }
+    if (!K->on)
+        return octave_cell(L, i, x, y, z, freq);
+    vf fq = vf_set1(freq);
+    vf q[3] = {vf_mul(x, fq), vf_mul(y, fq), vf_mul(z, fq)}, fr[3];
+    vi X[3], X1[3];
+    for (int a = 0; a < 3; a++) {
+        vf fl = vf_floor(q[a]);
+        if (i == 0) {
+            vf qq = vf_floor(vf_mul(vf_add(fl, vf_set1((bg_real)0.5)), vf_set1(L->inv[0][a])));
+            K->n0[a] = vf_mul(qq, vf_set1(-L->per[0][a]));
+        }
+        X[a] = vi_from_vf(vf_fma_exact(K->n0[a], fq, fl));
+        X1[a] = vi_wrap1(X[a], L->pm1[i][a]);
+        fr[a] = vf_sub(q[a], fl);
+    }
+#ifdef BG_HASHP_PER_XY255
+    X[0] = vi_and(X[0], vi_set1(255)), X[1] = vi_and(X[1], vi_set1(255));
+#endif
+    vcell c;
+    c.fx = fr[0], c.fy = fr[1], c.fz = fr[2];
+    c.h = vi_hashp_per(X[0], X[1], X[2], X1[0], X1[1], X1[2], L->zseam[i]);
+    return c;
+}
+#else
+typedef struct octcarry {
+    int on;
+} octcarry;
+#define OCTCARRY_INIT(K) ((K).on = 0)
+#endif
+/* Octave i's cell in a fractal loop: carry 0 never carried, 1 carried (the
+ * caller tested L->carry), -1 as L->carry says. */
+BG_INLINE vcell octave_cell_fr(const octlat *L, int i, vf x, vf y, vf z, bg_real freq, int carry,
+                               octcarry *K)
+{
+#ifndef BG_SCALAR_DOUBLE
+    if (L && carry && (carry > 0 || L->carry))
+        return octave_cell_carry(L, i, x, y, z, freq, K);
+#else
+    (void)carry, (void)K;
+#endif
+    return octave_cell(L, i, x, y, z, freq);
+}
+
 /* The gradient only when `want_grad` (a constant after inlining, so the
  * value-only kernel does no gradient work). */
 BG_INLINE corner noise_at(vcell c, int want_grad)
@@ -610,8 +697,8 @@ BG_INLINE vf octave_weight(vf fp, bg_real freq)
  * footprint weight, and the loop stops at the first octave that no lane can
  * show. A weight of exactly 1 multiplies exactly, so footprint 0 reproduces the
  * unfiltered sum bit for bit. */
-BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad, int use_fp,
-                                vf fp, const octlat *L)
+BG_INLINE corner fractal_fp_vec_k(const bg_fractal *f, vf x, vf y, vf z, int want_grad,
+                                  int use_fp, vf fp, const octlat *L, int carry)
 {
     int octaves = f->function == BG_FUNC_NOISE ? 1 : f->octaves;
     if (use_fp) {
@@ -651,19 +738,21 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
     const bg_real gain = (bg_real)f->gain, lac = (bg_real)f->lacunarity;
     corner s;
     s.v = s.gx = s.gy = s.gz = vf_set1(0);
+    octcarry K; /* octave_cell_carry's, when L->carry */
+    OCTCARRY_INIT(K);
 #ifdef BG_PIPELINE
     /* Octave i + 1's hash chain is started before octave i's corners (noise_at). */
-    vcell cell = octave_cell(L, 0, x, y, z, freq);
+    vcell cell = octave_cell_fr(L, 0, x, y, z, freq, carry, &K);
 #endif
     for (int i = 0; i < octaves; i++) {
 #ifdef BG_PIPELINE
         vcell next = cell;
         if (i + 1 < octaves)
-            next = octave_cell(L, i + 1, x, y, z, freq * lac);
+            next = octave_cell_fr(L, i + 1, x, y, z, freq * lac, carry, &K);
         corner o = noise_at(cell, want_grad);
         cell = next;
 #else
-        corner o = noise_at(octave_cell(L, i, x, y, z, freq), want_grad);
+        corner o = noise_at(octave_cell_fr(L, i, x, y, z, freq, carry, &K), want_grad);
 #endif
         vf a = vf_set1(amp), af = vf_set1(amp * freq);
         if (use_fp) {
@@ -694,10 +783,22 @@ BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_
     return s;
 }
 
+BG_INLINE corner fractal_fp_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad, int use_fp,
+                                vf fp, const octlat *L)
+{
+    return fractal_fp_vec_k(f, x, y, z, want_grad, use_fp, fp, L, -1);
+}
 BG_INLINE corner fractal_vec_l(const bg_fractal *f, vf x, vf y, vf z, int want_grad,
                                const octlat *L)
 {
     return fractal_fp_vec(f, x, y, z, want_grad, 0, vf_set1(0), L);
+}
+/* fractal_vec_l with octave_cell_fr's carry given (a constant: the domain
+ * fractal batches run one loop per value, so neither has the other's code). */
+BG_INLINE corner fractal_vec_lk(const bg_fractal *f, vf x, vf y, vf z, int want_grad,
+                                const octlat *L, int carry)
+{
+    return fractal_fp_vec_k(f, x, y, z, want_grad, 0, vf_set1(0), L, carry);
 }
 BG_INLINE corner fractal_vec(const bg_fractal *f, vf x, vf y, vf z, int want_grad)
 {
@@ -1077,12 +1178,19 @@ void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real 
 #undef DNOISE_GRAD_LOOP
 #undef DNOISE_GRAD_AT
     }
-    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
-    {
-        corner r = fractal_vec_l(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 1,
-                                 &L);
-        store_corner(r, i, c, v, gx, gy, gz);
+#define DFRACTAL_GRAD_LOOP(carry)                                                              \
+    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))                                                   \
+    {                                                                                          \
+        corner r = fractal_vec_lk(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), \
+                                  1, &L, carry);                                               \
+        store_corner(r, i, c, v, gx, gy, gz);                                                  \
     }
+    if (L.carry) {
+        DFRACTAL_GRAD_LOOP(1)
+    } else {
+        DFRACTAL_GRAD_LOOP(0)
+    }
+#undef DFRACTAL_GRAD_LOOP
 #ifdef BG_SCALAR_TAIL
     if (BG_TAIL1(n)) {
         size_t t = n - 1;
@@ -1111,12 +1219,19 @@ void KFN(dfractal3)(const bg_fractal *f, const bg_domain *d, const bg_real *x, c
 #undef DNOISE_LOOP
 #undef DNOISE_AT
     }
-    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))
-    {
-        corner r = fractal_vec_l(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), 0,
-                                 &L);
-        store_out(v + i, r.v, c);
+#define DFRACTAL_LOOP(carry)                                                                   \
+    BG_FOR_BATCH_FROM(i, c, i0, BG_VEC_N(n))                                                   \
+    {                                                                                          \
+        corner r = fractal_vec_lk(f, vf_loadn(x + i, c), vf_loadn(y + i, c), vf_loadn(z + i, c), \
+                                  0, &L, carry);                                               \
+        store_out(v + i, r.v, c);                                                              \
     }
+    if (L.carry) {
+        DFRACTAL_LOOP(1)
+    } else {
+        DFRACTAL_LOOP(0)
+    }
+#undef DFRACTAL_LOOP
 #ifdef BG_SCALAR_TAIL
     if (BG_TAIL1(n)) {
         size_t t = n - 1;

@@ -98,6 +98,11 @@ static inline vm vi_test(vi a, vi bits)
 }
 /* Every lane of m set. */
 static inline int vm_all(vm m) { return _mm256_movemask_ps(m) == 255; }
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c octave_cell_carry). */
+static inline vi vi_wrap1(vi r, int32_t pm1)
+{
+    return _mm256_andnot_si256(_mm256_cmpeq_epi32(r, _mm256_set1_epi32(pm1)), _mm256_add_epi32(r, _mm256_set1_epi32(1)));
+}
 /* bg_perm_pair[idx & 255]: vpgatherdd. -DBG_VEC_NO_GATHER builds the
  * scalar-load alternative measured against it in docs/KERNELS.md. */
 static inline vi vi_perm2(vi idx)
@@ -259,7 +264,12 @@ BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i
     return h;
 }
 #define BG_ZSEAM_GRAD2 3
-/* From cells given wrapped (X1 = X + 1, or 0 at the seam; lattice_per). */
+/* From cells given wrapped (X1 = X + 1, or 0 at the seam; lattice_per). X
+ * (the gather's index) and Y (bytes 0 and 1 of Y | Y1 << 8) must lie in
+ * [0, 255]; of Z, X1, Y1 and Z1 only the low byte counts (X1 = 256, X = 255:
+ * bg_perm_pair[255] has p[0] already). BG_HASHP_PER_XY255: callers with
+ * cells beyond 255 (bump_tmpl.c octave_cell_carry) mask X and Y. */
+#define BG_HASHP_PER_XY255 1
 BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
 {
     const __m256i b0 = _mm256_broadcastsi128_si256(_mm_setr_epi8(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12));

@@ -73,6 +73,11 @@ static inline vm vi_eq(vi a, vi b) { return _mm512_cmpeq_epi32_mask(a, b); }
 static inline vm vi_test(vi a, vi bits) { return _mm512_test_epi32_mask(a, bits); }
 /* Every lane of m set. */
 static inline int vm_all(vm m) { return m == 0xffff; }
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c lattice_any_small, octave_cell_carry). */
+static inline vi vi_wrap1(vi r, int32_t pm1)
+{
+    return _mm512_maskz_add_epi32(_mm512_cmpneq_epi32_mask(r, _mm512_set1_epi32(pm1)), r, _mm512_set1_epi32(1));
+}
 
 #ifdef BG_VEC_VBMI
 /* Perlin's permutation applied to every byte: p256[b] for each of the 64 bytes,
@@ -183,11 +188,6 @@ static inline vhash vi_hashp_pow2(vi cx, vi cy, vi cz, vi mx, vi my, vi mz, int 
     if (zseam == 2 || k)
         h = bg_hashp_hi(h, bg_perm_bytes(pa), k);
     return h;
-}
-/* r + 1, or 0 where r = pm1 (bump_tmpl.c lattice_any_small). */
-static inline vi vi_wrap1(vi r, int32_t pm1)
-{
-    return _mm512_maskz_add_epi32(_mm512_cmpneq_epi32_mask(r, _mm512_set1_epi32(pm1)), r, _mm512_set1_epi32(1));
 }
 /* Every |fl| < 2^22 (bump_tmpl.c lattice_pow2; false for NaN): vrangeps
  * 0x0b is max(|a|, |b|) (NaN if either is). */

@@ -70,6 +70,8 @@ static inline vi vi_add(vi a, vi b) { return a + b; }
 static inline vi vi_and(vi a, vi b) { return a & b; }
 static inline vm vi_lt(vi a, vi b) { return a < b; }
 static inline vm vi_eq(vi a, vi b) { return a == b; }
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c octave_cell_carry). */
+static inline vi vi_wrap1(vi r, int32_t pm1) { return r == pm1 ? 0 : r + 1; }
 static inline vm vi_test(vi a, vi bits) { return (a & bits) != 0; }
 /* Every lane of m set. */
 static inline int vm_all(vm m) { return m != 0; }

@@ -70,6 +70,11 @@ static inline vm vi_eq(vi a, vi b) { return vceqq_s32(a, b); }
 static inline vm vi_test(vi a, vi bits) { return vtstq_s32(a, bits); }
 /* Every lane of m set. */
 static inline int vm_all(vm m) { return vminvq_u32(m) != 0; }
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c octave_cell_carry). */
+static inline vi vi_wrap1(vi r, int32_t pm1)
+{
+    return vbicq_s32(vaddq_s32(r, vdupq_n_s32(1)), vreinterpretq_s32_u32(vceqq_s32(r, vdupq_n_s32(pm1))));
+}
 /* bg_perm_pair[idx & 255]: no gather on NEON, four lane loads. */
 static inline vi vi_perm2(vi idx)
 {

@@ -86,6 +86,11 @@ static inline vm vi_test(vi a, vi bits)
 }
 /* Every lane of m set. */
 static inline int vm_all(vm m) { return _mm_movemask_ps(m) == 15; }
+/* r + 1, or 0 where r = pm1 (bump_tmpl.c octave_cell_carry). */
+static inline vi vi_wrap1(vi r, int32_t pm1)
+{
+    return _mm_andnot_si128(_mm_cmpeq_epi32(r, _mm_set1_epi32(pm1)), _mm_add_epi32(r, _mm_set1_epi32(1)));
+}
 /* bg_perm_pair[idx & 255]: SSE2 has no gather, so four scalar loads. */
 static inline vi vi_perm2(vi idx)
 {
