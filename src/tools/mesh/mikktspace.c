@@ -3,8 +3,8 @@
  * description (see mikktspace.h for the rules and their sources). Sums and
  * projections run in double and are rounded to float once at the end.
  *
- * The passes: welding (a hash table in vertex order), the triangles
- * (parallel), the corners of each welded vertex (a counting sort), then per
+ * The passes: welding (a hash table in vertex order), the corners of each
+ * welded vertex (a counting sort), the triangles (parallel), then per
  * welded vertex in parallel the edge neighbours and the fans with their
  * tangents. Every corner belongs to one vertex and each vertex's work reads
  * only what the earlier passes made, so the result does not depend on the
