@@ -969,12 +969,20 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
     for (size_t v = b; v < e; v++) {
         const uint32_t *cs = k->v_corner + k->v_start[v];
         size_t nc = k->v_start[v + 1] - k->v_start[v];
-        if (!k->touched || !k->touched[v])
+        /* plain: all of v's corners seed or join fans here (none degenerate
+         * or zero-UV-area), so afterwards each is in a fan and the passes
+         * below would write nothing */
+        int plain = !k->touched || !k->touched[v];
+        if (plain)
             for (size_t i = 0; i < nc; i++) {
                 size_t t = cs[i] / 3;
-                if (!(k->flags[t] & (TRI_DEGENERATE | TRI_ANY)) && !k->grouped[cs[i]])
+                if (k->flags[t] & (TRI_DEGENERATE | TRI_ANY))
+                    plain = 0;
+                else if (!k->grouped[cs[i]])
                     seed_fan(k, w, t, (int)(cs[i] % 3));
             }
+        if (plain)
+            continue;
         int64_t first = -1;
         int degenerate = 0;
         for (size_t i = 0; i < nc; i++) {
