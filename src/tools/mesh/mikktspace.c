@@ -764,6 +764,11 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
         first++;
     if (first >= n)
         return 0;
+    /* The members' corners are at one welded vertex, so their normals are
+     * equal as floats (up to the sign of a zero, which changes no comparison
+     * below): the first member's serves all. */
+    uint32_t v0 = idx[3 * (size_t)mem[first] + corner[first]];
+    const __m128 nx = _mm_set1_ps(nxs[v0]), ny = _mm_set1_ps(nys[v0]), nz = _mm_set1_ps(nzs[v0]);
     __m128 s0x = _mm_setzero_ps(), s0y = s0x, s0z = s0x, t0x = s0x, t0y = s0x, t0z = s0x,
            ls0 = s0x, lt0 = s0x;
     const __m128 lo = _mm_set1_ps(1e-12f), hi = _mm_set1_ps(1e12f), zero = _mm_setzero_ps(),
@@ -776,20 +781,13 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
             size_t i = i0 + (size_t)l < n ? i0 + (size_t)l : first;
             il[l] = (size_t)mem[i];
             dead[l] = !(i0 + (size_t)l < n) || (flags[il[l]] & TRI_ANY);
-            il[l] = il[l] << 2 | corner[i];
         }
         /* lanes built from scalars (not stored and reloaded: a 16-byte load
          * of four 4-byte stores stalls) */
 #define MIKK_G(arr, f) _mm_set_ps(arr[L(3)] f, arr[L(2)] f, arr[L(1)] f, arr[L(0)] f)
-#define L(l) (il[l] >> 2)
+#define L(l) il[l]
         __m128 ax = MIKK_G(fos, .x), ay = MIKK_G(fos, .y), az = MIKK_G(fos, .z);
         __m128 bx = MIKK_G(fot, .x), by = MIKK_G(fot, .y), bz = MIKK_G(fot, .z);
-#undef L
-        uint32_t vi[4];
-        for (int l = 0; l < 4; l++)
-            vi[l] = idx[3 * (il[l] >> 2) + (il[l] & 3)];
-#define L(l) vi[l]
-        __m128 nx = MIKK_G(nxs, ), ny = MIKK_G(nys, ), nz = MIKK_G(nzs, );
 #undef L
 #undef MIKK_G
         __m128 deadm = _mm_castsi128_ps(_mm_set_epi32(-dead[3], -dead[2], -dead[1], -dead[0]));
