@@ -1167,7 +1167,7 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     if (T > (size_t)INT32_MAX / 3 || m->vertex_count > UINT32_MAX)
         return BG_ERR_INVALID_ARGUMENT;
     size_t nv = m->vertex_count;
-    if (T > SIZE_MAX / 128 || nv > SIZE_MAX / 64)
+    if (T > SIZE_MAX / 128 || nv > SIZE_MAX / 128) /* the block size below stays in size_t */
         return BG_ERR_OUT_OF_MEMORY;
     int threads_used = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
 
