@@ -3,8 +3,8 @@
  * description (see mikktspace.h for the rules and their sources). Sums and
  * projections run in double and are rounded to float once at the end.
  *
- * The passes: welding (a hash table in vertex order), the triangles
- * (parallel), the corners of each welded vertex (a counting sort), then per
+ * The passes: welding (a hash table in vertex order), the corners of each
+ * welded vertex (a counting sort), the triangles (parallel), then per
  * welded vertex in parallel the edge neighbours and the fans with their
  * tangents. Every corner belongs to one vertex and each vertex's work reads
  * only what the earlier passes made, so the result does not depend on the
@@ -25,23 +25,72 @@
 #include <sys/mman.h>
 #endif
 
-/* The per-triangle and per-corner arrays: 100 MB for a million triangles,
- * which the first writes fault in page by page. On Linux they are asked for
- * in huge pages (transparent huge pages in madvise mode), 2 MB at a time.
- * Freed with free(). */
-static void *big_alloc(size_t bytes)
+/* All the per-call arrays live in one zeroed block (arena_open), carved in
+ * 64-byte aligned pieces: about 80 bytes per triangle for a welded mesh
+ * (docs/PERFORMANCE.md), which the first writes fault in. On Linux the block
+ * is one anonymous mapping asked for in huge pages (transparent huge pages in
+ * madvise mode) over its whole length, 2 MB per fault instead of 4 KB, and
+ * unmapped in one call; elsewhere it is one calloc. */
+typedef struct arena {
+    char *base;
+    size_t len, used;
+    int mapped;
+} arena;
+
+static size_t arena_round(size_t bytes) { return (bytes + 63) & ~(size_t)63; }
+
+static int arena_open(arena *a, size_t bytes)
 {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    a->used = 0;
+    a->mapped = 0;
+    a->len = bytes ? bytes : 1;
+#if defined(__linux__) && defined(MAP_ANONYMOUS)
     const size_t huge = (size_t)2 << 20;
-    if (bytes >= 2 * huge) {
-        void *p = NULL;
-        if (posix_memalign(&p, huge, bytes) != 0)
-            return NULL;
-        (void)madvise(p, bytes, MADV_HUGEPAGE); /* advice only: may fail */
-        return p;
+    if (a->len >= huge) {
+        /* whole huge pages from a huge-page-aligned start: mapped one huge
+         * page longer, the ends around them unmapped */
+        size_t r = (a->len + huge - 1) / huge * huge;
+        char *p = mmap(NULL, r + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (p != MAP_FAILED) {
+            char *b = (char *)(((uintptr_t)p + huge - 1) & ~(uintptr_t)(huge - 1));
+            size_t head = (size_t)(b - p);
+            if (head)
+                (void)munmap(p, head);
+            if (huge - head)
+                (void)munmap(b + r, huge - head);
+#if defined(MADV_HUGEPAGE)
+            (void)madvise(b, r, MADV_HUGEPAGE); /* advice only: may fail */
+#endif
+            a->base = b;
+            a->len = r;
+            a->mapped = 1;
+            return 0;
+        }
     }
 #endif
-    return malloc(bytes ? bytes : 1);
+    a->base = calloc(1, a->len);
+    return a->base ? 0 : -1;
+}
+
+/* the next `bytes` of the block (zero unless an earlier piece was rewound) */
+static void *arena_take(arena *a, size_t bytes)
+{
+    void *p = a->base + a->used;
+    a->used += arena_round(bytes);
+    return p;
+}
+
+static void arena_close(arena *a)
+{
+    if (!a->base)
+        return;
+#if defined(__linux__) && defined(MAP_ANONYMOUS)
+    if (a->mapped) {
+        (void)munmap(a->base, a->len);
+        return;
+    }
+#endif
+    free(a->base);
 }
 
 typedef struct d3 {
@@ -110,7 +159,6 @@ typedef struct mikk {
     size_t T, nv;
     int threads;
     uint32_t *weld;   /* per vertex: representative vertex of its welded class */
-    uint32_t *wc;     /* per corner: its welded vertex */
     uint8_t *flags;   /* per triangle */
     d3 *os;           /* per triangle: unit dP/du direction, oriented */
     f3 *fos, *fot;    /* dP/du and dP/dv in float (the split test of rule 5) */
@@ -124,7 +172,8 @@ typedef struct mikk {
     mikk_worker *w;
 } mikk;
 
-static uint32_t wv(const mikk *k, size_t corner) { return k->wc[corner]; }
+/* the welded vertex of a corner */
+static uint32_t wv(const mikk *k, size_t corner) { return k->weld[k->m->indices[corner]]; }
 
 static f3 fnrm(const bgt_mikk_mesh *m, uint32_t i) { return (f3){m->nx[i], m->ny[i], m->nz[i]}; }
 
@@ -215,31 +264,48 @@ static void weld_part(void *ctx, size_t b, size_t e, int worker)
     (void)worker;
     const weld_part_job *j = ctx;
     mikk *k = j->k;
+    enum { BATCH = 512, AHEAD = 8 };
+    uint32_t cand[BATCH];
     for (size_t p = b; p < e; p++) {
         uint32_t *table = j->table + p * j->region;
         size_t mask = j->region - 1, merged = 0;
-        for (size_t i = 0; i < k->nv; i++) {
-            uint32_t h = j->hash[i];
-            if (!atomic_load_explicit(&j->used[i], memory_order_relaxed) || h == UINT32_MAX || h % j->parts != p)
-                continue;
-            uint32_t ki[8], ko[8];
-            int nan, have = 0;
-            for (size_t s = (h / j->parts) & mask;; s = (s + 1) & mask) {
-                uint32_t o = table[s];
-                if (o == 0) {
-                    table[s] = (uint32_t)i + 1;
-                    break;
-                }
-                o--;
-                if (j->hash[o] != h)
-                    continue;
-                if (!have)
-                    vertex_keys(k->m, i, ki, &nan), have = 1;
-                vertex_keys(k->m, o, ko, &nan);
-                if (memcmp(ko, ki, sizeof ki) == 0) {
-                    k->weld[i] = o; /* o < i: the class's first vertex */
-                    merged++;
-                    break;
+        for (size_t i0 = 0; i0 < k->nv; i0 += BATCH) {
+            /* this part's vertices of the batch, in order, gathered without
+             * branches; the first table slot of each is fetched a few
+             * vertices ahead */
+            size_t i1 = k->nv - i0 < BATCH ? k->nv : i0 + BATCH, nc = 0;
+            for (size_t i = i0; i < i1; i++) {
+                uint32_t h = j->hash[i];
+                cand[nc] = (uint32_t)i;
+                nc += atomic_load_explicit(&j->used[i], memory_order_relaxed) &
+                      (h != UINT32_MAX) & (h % j->parts == p);
+            }
+            for (size_t q = 0; q < nc; q++) {
+                size_t i = cand[q];
+                uint32_t h = j->hash[i];
+#if defined(__GNUC__)
+                if (q + AHEAD < nc)
+                    __builtin_prefetch(&table[(j->hash[cand[q + AHEAD]] / j->parts) & mask], 1);
+#endif
+                uint32_t ki[8], ko[8];
+                int nan, have = 0;
+                for (size_t s = (h / j->parts) & mask;; s = (s + 1) & mask) {
+                    uint32_t o = table[s];
+                    if (o == 0) {
+                        table[s] = (uint32_t)i + 1;
+                        break;
+                    }
+                    o--;
+                    if (j->hash[o] != h)
+                        continue;
+                    if (!have)
+                        vertex_keys(k->m, i, ki, &nan), have = 1;
+                    vertex_keys(k->m, o, ko, &nan);
+                    if (memcmp(ko, ki, sizeof ki) == 0) {
+                        k->weld[i] = o; /* o < i: the class's first vertex */
+                        merged++;
+                        break;
+                    }
                 }
             }
         }
@@ -269,7 +335,18 @@ static void weld_init(void *ctx, size_t b, size_t e, int worker)
     j->nu[worker] += nu;
 }
 
-static size_t weld_vertices(mikk *k, const mark8 *used)
+/* The weld table's size in entries for `nu` referenced vertices: one region
+ * per part, a power of two of at least 16, together at least 2 nu. */
+static size_t weld_region(size_t nu, size_t parts)
+{
+    size_t region = 16;
+    while (region * parts < 2 * nu)
+        region *= 2;
+    return region;
+}
+
+/* hash: nv entries; table: weld_region(nv, threads) * threads entries, zero */
+static size_t weld_vertices(mikk *k, const mark8 *used, uint32_t *hash, uint32_t *table)
 {
     size_t nv = k->nv, nu = 0;
     size_t *nuw = calloc((size_t)k->threads, sizeof *nuw);
@@ -280,14 +357,10 @@ static size_t weld_vertices(mikk *k, const mark8 *used)
     for (int t = 0; t < k->threads; t++)
         nu += nuw[t];
     free(nuw);
-    size_t parts = (size_t)k->threads, region = 16;
-    while (region * parts < 2 * nu)
-        region *= 2;
-    uint32_t *hash = big_alloc(nv * sizeof *hash);
-    uint32_t *table = calloc(region * parts, sizeof *table);
+    size_t parts = (size_t)k->threads, region = weld_region(nu, parts);
     size_t *merged = calloc(parts, sizeof *merged);
     size_t classes = (size_t)-1;
-    if (hash && table && merged) {
+    if (merged) {
         weld_job j = {k->m, hash};
         bgt_parallel_for(nv, 16384, k->threads, weld_hashes, &j);
         weld_part_job pj = {k, used, hash, table, parts, region, merged};
@@ -296,8 +369,6 @@ static size_t weld_vertices(mikk *k, const mark8 *used)
         for (size_t p = 0; p < parts; p++)
             classes -= merged[p];
     }
-    free(hash);
-    free(table);
     free(merged);
     return classes;
 }
@@ -317,19 +388,16 @@ static void classify_chunk(void *ctx, size_t b, size_t e, int worker)
     mikk_worker *w = &k->w[worker];
     const bgt_mikk_mesh *m = k->m;
     const float *px = m->px, *py = m->py, *pz = m->pz, *us = m->u, *vs = m->v;
-    const uint32_t *idx = m->indices, *weld = k->weld;
-    uint32_t *wc = k->wc;
+    const uint32_t *idx = m->indices;
     int32_t *nb = k->nb;
-    uint8_t *grouped = k->grouped, *flags = k->flags;
+    uint8_t *flags = k->flags;
     d3 *os = k->os;
     f3 *fos = k->fos, *fot = k->fot;
     size_t degenerate = 0, zero = 0;
     for (size_t t = b; t < e; t++) {
         const uint32_t *ix = idx + 3 * t;
         uint32_t i0 = ix[0], i1 = ix[1], i2 = ix[2];
-        wc[3 * t] = weld[i0], wc[3 * t + 1] = weld[i1], wc[3 * t + 2] = weld[i2];
-        nb[3 * t] = nb[3 * t + 1] = nb[3 * t + 2] = -1;
-        grouped[3 * t] = grouped[3 * t + 1] = grouped[3 * t + 2] = 0;
+        nb[3 * t] = nb[3 * t + 1] = nb[3 * t + 2] = -1; /* (grouped comes zero) */
         float x0 = px[i0], y0 = py[i0], z0 = pz[i0];
         float x1 = px[i1], y1 = py[i1], z1 = pz[i1];
         float x2 = px[i2], y2 = py[i2], z2 = pz[i2];
@@ -402,9 +470,11 @@ static void classify_chunk(void *ctx, size_t b, size_t e, int worker)
  * (in parallel): they come from that vertex's corners, already in triangle
  * order, and are sorted stably by the higher vertex. */
 
-/* Edge records of one lower vertex: (higher vertex) << 32 | triangle << 2 |
- * edge number, so that their numeric order is the (higher, triangle, edge)
- * order (fewer than 2^30 triangles: checked on entry). */
+/* Edge records of one lower vertex: (higher vertex) << 32 | corner << 1 |
+ * leaves, with corner = 3 triangle + edge number (the edge's first corner,
+ * below 2^31: checked on entry) and leaves = 1 when that corner is at the
+ * lower vertex, so that their numeric order is the (higher, triangle, edge)
+ * order. */
 static void sort_edges(uint64_t *e, size_t n)
 {
     for (size_t i = 1; i < n; i++) {
@@ -431,7 +501,7 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
      * arrives is prev (k + 2 mod 3); next is k + 1 mod 3 */
     mikk *k = ctx;
     uint64_t *ed = k->w[worker].edges;
-    const uint32_t *vs = k->v_start, *vc = k->v_corner, *wc = k->wc;
+    const uint32_t *vs = k->v_start, *vc = k->v_corner, *weld = k->weld, *idx = k->m->indices;
     const uint8_t *flags = k->flags;
     int32_t *nb = k->nb;
     for (size_t v = b; v < e; v++) {
@@ -440,15 +510,17 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
             uint32_t c = vc[i], t = c / 3, kc = c - 3 * t, kp = prev3[kc];
             if (flags[t] & TRI_DEGENERATE)
                 continue;
-            /* edge kc leaves v, edge kp arrives at it: in edge-number order */
-            uint32_t next = wc[3 * (size_t)t + next3[kc]], prev = wc[3 * (size_t)t + kp];
-            uint64_t tk = (uint64_t)t << 2;
+            /* edge kc leaves v, edge kp arrives at it: in edge-number order
+             * (the corners of a non-degenerate triangle are at three
+             * different welded vertices) */
+            uint32_t t3 = 3 * t;
+            uint32_t next = weld[idx[t3 + next3[kc]]], prev = weld[idx[t3 + kp]];
             if (kp < kc && prev > v)
-                ed[n++] = (uint64_t)prev << 32 | tk | kp;
+                ed[n++] = (uint64_t)prev << 32 | (uint64_t)(t3 + kp) << 1;
             if (next > v)
-                ed[n++] = (uint64_t)next << 32 | tk | kc;
+                ed[n++] = (uint64_t)next << 32 | (uint64_t)c << 1 | 1;
             if (kp > kc && prev > v)
-                ed[n++] = (uint64_t)prev << 32 | tk | kp;
+                ed[n++] = (uint64_t)prev << 32 | (uint64_t)(t3 + kp) << 1;
         }
         if (n <= 32)
             sort_edges(ed, n);
@@ -458,13 +530,13 @@ static void neighbours_chunk(void *ctx, size_t b, size_t e, int worker)
          * opposite ways: one leaves v (its first corner is at v), the other
          * arrives. */
         for (size_t i = 0; i < n; i++) {
-            size_t ca = (size_t)(ed[i] >> 2 & 0x3fffffff) * 3 + (ed[i] & 3);
+            size_t ca = (size_t)(ed[i] >> 1 & 0x7fffffff);
             if (nb[ca] >= 0)
                 continue;
-            int leaves = wc[ca] == v;
+            uint64_t leaves = ed[i] & 1;
             for (size_t j = i + 1; j < n && ed[j] >> 32 == ed[i] >> 32; j++) {
-                size_t cb = (size_t)(ed[j] >> 2 & 0x3fffffff) * 3 + (ed[j] & 3);
-                if ((wc[cb] == v) != leaves && nb[cb] < 0) {
+                size_t cb = (size_t)(ed[j] >> 1 & 0x7fffffff);
+                if ((ed[j] & 1) != leaves && nb[cb] < 0) {
                     nb[ca] = (int32_t)cb;
                     nb[cb] = (int32_t)ca;
                     break;
@@ -692,6 +764,11 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
         first++;
     if (first >= n)
         return 0;
+    /* The members' corners are at one welded vertex, so their normals are
+     * equal as floats (up to the sign of a zero, which changes no comparison
+     * below): the first member's serves all. */
+    uint32_t v0 = idx[3 * (size_t)mem[first] + corner[first]];
+    const __m128 nx = _mm_set1_ps(nxs[v0]), ny = _mm_set1_ps(nys[v0]), nz = _mm_set1_ps(nzs[v0]);
     __m128 s0x = _mm_setzero_ps(), s0y = s0x, s0z = s0x, t0x = s0x, t0y = s0x, t0z = s0x,
            ls0 = s0x, lt0 = s0x;
     const __m128 lo = _mm_set1_ps(1e-12f), hi = _mm_set1_ps(1e12f), zero = _mm_setzero_ps(),
@@ -704,20 +781,13 @@ static int may_split(const mikk *k, const int32_t *mem, size_t n, const uint8_t 
             size_t i = i0 + (size_t)l < n ? i0 + (size_t)l : first;
             il[l] = (size_t)mem[i];
             dead[l] = !(i0 + (size_t)l < n) || (flags[il[l]] & TRI_ANY);
-            il[l] = il[l] << 2 | corner[i];
         }
         /* lanes built from scalars (not stored and reloaded: a 16-byte load
          * of four 4-byte stores stalls) */
 #define MIKK_G(arr, f) _mm_set_ps(arr[L(3)] f, arr[L(2)] f, arr[L(1)] f, arr[L(0)] f)
-#define L(l) (il[l] >> 2)
+#define L(l) il[l]
         __m128 ax = MIKK_G(fos, .x), ay = MIKK_G(fos, .y), az = MIKK_G(fos, .z);
         __m128 bx = MIKK_G(fot, .x), by = MIKK_G(fot, .y), bz = MIKK_G(fot, .z);
-#undef L
-        uint32_t vi[4];
-        for (int l = 0; l < 4; l++)
-            vi[l] = idx[3 * (il[l] >> 2) + (il[l] & 3)];
-#define L(l) vi[l]
-        __m128 nx = MIKK_G(nxs, ), ny = MIKK_G(nys, ), nz = MIKK_G(nzs, );
 #undef L
 #undef MIKK_G
         __m128 deadm = _mm_castsi128_ps(_mm_set_epi32(-dead[3], -dead[2], -dead[1], -dead[0]));
@@ -897,12 +967,20 @@ static void fans_chunk(void *ctx, size_t b, size_t e, int worker)
     for (size_t v = b; v < e; v++) {
         const uint32_t *cs = k->v_corner + k->v_start[v];
         size_t nc = k->v_start[v + 1] - k->v_start[v];
-        if (!k->touched || !k->touched[v])
+        /* plain: all of v's corners seed or join fans here (none degenerate
+         * or zero-UV-area), so afterwards each is in a fan and the passes
+         * below would write nothing */
+        int plain = !k->touched || !k->touched[v];
+        if (plain)
             for (size_t i = 0; i < nc; i++) {
                 size_t t = cs[i] / 3;
-                if (!(k->flags[t] & (TRI_DEGENERATE | TRI_ANY)) && !k->grouped[cs[i]])
+                if (k->flags[t] & (TRI_DEGENERATE | TRI_ANY))
+                    plain = 0;
+                else if (!k->grouped[cs[i]])
                     seed_fan(k, w, t, (int)(cs[i] % 3));
             }
+        if (plain)
+            continue;
         int64_t first = -1;
         int degenerate = 0;
         for (size_t i = 0; i < nc; i++) {
@@ -946,15 +1024,17 @@ static void csr_part(void *ctx, size_t b, size_t e, int worker)
     const csr_job *j = ctx;
     mikk *k = j->k;
     size_t nc = 3 * k->T;
+    const uint32_t *weld = k->weld, *idx = k->m->indices;
+    uint32_t *vcorner = k->v_corner;
     for (size_t p = b; p < e; p++) {
         uint32_t *cnt = j->cnt + p * k->nv;
         size_t c1 = (p + 1) * j->per < nc ? (p + 1) * j->per : nc;
-        for (size_t c = p * j->per; c < c1; c++) {
-            if (j->place)
-                k->v_corner[cnt[k->wc[c]]++] = (uint32_t)c;
-            else
-                cnt[k->wc[c]]++;
-        }
+        if (j->place)
+            for (size_t c = p * j->per; c < c1; c++)
+                vcorner[cnt[weld[idx[c]]]++] = (uint32_t)c;
+        else
+            for (size_t c = p * j->per; c < c1; c++)
+                cnt[weld[idx[c]]]++;
     }
 }
 
@@ -1004,18 +1084,19 @@ static void csr_scan_blocks(void *ctx, size_t b, size_t e, int worker)
     }
 }
 
-static int corners_by_vertex(mikk *k, size_t *maxv)
+static size_t csr_parts(int threads)
+{
+    return threads < MIKK_CSR_PARTS ? (size_t)threads : MIKK_CSR_PARTS;
+}
+static size_t csr_blocks(size_t nv) { return (nv + MIKK_CSR_BLOCK - 1) / MIKK_CSR_BLOCK; }
+
+/* cnt: csr_parts * nv zero counts; bs: 2 (csr_blocks + 1) */
+static void corners_by_vertex(mikk *k, size_t *maxv, uint32_t *cnt, uint32_t *bs)
 {
     size_t nv = k->nv, nc = 3 * k->T;
-    size_t parts = k->threads < MIKK_CSR_PARTS ? (size_t)k->threads : MIKK_CSR_PARTS;
-    size_t blocks = (nv + MIKK_CSR_BLOCK - 1) / MIKK_CSR_BLOCK;
-    csr_job j = {k, calloc(parts * nv, sizeof *j.cnt), (nc + parts - 1) / parts, 0};
-    uint32_t *bs = malloc(2 * (blocks + 1) * sizeof *bs);
-    if (!j.cnt || !bs) {
-        free(j.cnt);
-        free(bs);
-        return -1;
-    }
+    size_t parts = csr_parts(k->threads);
+    size_t blocks = csr_blocks(nv);
+    csr_job j = {k, cnt, (nc + parts - 1) / parts, 0};
     bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
     csr_scan sc = {k, j.cnt, parts, bs, bs + blocks + 1, 0};
     bgt_parallel_for(blocks, 1, k->threads, csr_scan_blocks, &sc);
@@ -1032,9 +1113,6 @@ static int corners_by_vertex(mikk *k, size_t *maxv)
     *maxv = mx;
     j.place = 1;
     bgt_parallel_for(parts, 1, k->threads, csr_part, &j);
-    free(j.cnt);
-    free(bs);
-    return 0;
 }
 
 static void free_workers(mikk *k)
@@ -1089,17 +1167,30 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     if (T > (size_t)INT32_MAX / 3 || m->vertex_count > UINT32_MAX)
         return BG_ERR_INVALID_ARGUMENT;
     size_t nv = m->vertex_count;
-    mark8 *used = calloc(nv ? nv : 1, sizeof *used);
-    if (!used)
+    if (T > SIZE_MAX / 128 || nv > SIZE_MAX / 128) /* the block size below stays in size_t */
         return BG_ERR_OUT_OF_MEMORY;
     int threads_used = threads > 0 ? (threads < 256 ? threads : 256) : bgt_threads_default();
-    mark_job mj = {m->indices, nv, used, 0};
-    bgt_parallel_for(3 * T, 65536, threads_used, mark_used, &mj);
-    if (atomic_load(&mj.bad)) {
-        free((void *)used);
-        return BG_ERR_INVALID_ARGUMENT;
-    }
 
+    /* The block's pieces. Kept to the end: weld, v_start and the per-triangle
+     * arrays. v_corner is written last (corners_by_vertex's placing), so its
+     * space first holds the welding's scratch (used, hash, table); the
+     * corner counts of corners_by_vertex run before the triangle pass and
+     * use the space of os, which that pass writes. Both scratches come out
+     * of the block untouched, i.e. zero. */
+    size_t parts = (size_t)threads_used, cparts = csr_parts(threads_used);
+    size_t blocks = csr_blocks(nv);
+    size_t tbl = weld_region(nv, parts) * parts;
+    size_t weld_scratch = arena_round(nv) + arena_round(4 * nv) + arena_round(4 * tbl);
+    size_t csr_scratch = arena_round(cparts * nv * 4) + arena_round(2 * (blocks + 1) * 4);
+    size_t vc_bytes = arena_round(3 * T * 4), os_bytes = arena_round(T * sizeof(d3));
+    size_t vc_space = vc_bytes > weld_scratch ? vc_bytes : weld_scratch;
+    size_t os_space = os_bytes > csr_scratch ? os_bytes : csr_scratch;
+    arena ar;
+    memset(&ar, 0, sizeof ar);
+    if (arena_open(&ar, arena_round(4 * nv) + arena_round(4 * (nv + 1)) + arena_round(T) +
+                            os_space + 2 * arena_round(T * sizeof(f3)) +
+                            arena_round(3 * T * 4) + arena_round(3 * T) + vc_space) != 0)
+        return BG_ERR_OUT_OF_MEMORY;
     mikk k;
     memset(&k, 0, sizeof k);
     k.m = m;
@@ -1107,28 +1198,34 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     k.out = out;
     k.threads = threads_used;
     k.nv = nv;
-    k.weld = big_alloc(nv * sizeof *k.weld);
-    k.wc = big_alloc(3 * T * sizeof *k.wc);
-    k.flags = malloc(T);
-    k.os = big_alloc(T * sizeof *k.os);
-    k.fos = big_alloc(T * sizeof *k.fos);
-    k.fot = big_alloc(T * sizeof *k.fot);
-    k.nb = big_alloc(3 * T * sizeof *k.nb);
-    k.grouped = big_alloc(3 * T);
-    k.v_start = malloc((nv + 1) * sizeof *k.v_start);
-    k.v_corner = big_alloc(3 * T * sizeof *k.v_corner);
-    bg_status rc = BG_ERR_OUT_OF_MEMORY;
-    if (!k.weld || !k.wc || !k.flags || !k.os || !k.fos || !k.fot || !k.nb ||
-        !k.grouped || !k.v_start || !k.v_corner)
+    k.weld = arena_take(&ar, 4 * nv);
+    k.v_start = arena_take(&ar, 4 * (nv + 1));
+    k.flags = arena_take(&ar, T);
+    k.os = arena_take(&ar, os_space);
+    k.fos = arena_take(&ar, T * sizeof(f3));
+    k.fot = arena_take(&ar, T * sizeof(f3));
+    k.nb = arena_take(&ar, 3 * T * 4);
+    k.grouped = arena_take(&ar, 3 * T);
+    k.v_corner = arena_take(&ar, vc_space);
+    mark8 *used = (mark8 *)(void *)k.v_corner;
+    uint32_t *hash = (uint32_t *)(void *)((char *)k.v_corner + arena_round(nv));
+    uint32_t *table = (uint32_t *)(void *)((char *)hash + arena_round(4 * nv));
+    uint32_t *cnt = (uint32_t *)(void *)k.os;
+    uint32_t *bs = (uint32_t *)(void *)((char *)k.os + arena_round(cparts * nv * 4));
+
+    bg_status rc = BG_ERR_INVALID_ARGUMENT;
+    mark_job mj = {m->indices, nv, used, 0};
+    bgt_parallel_for(3 * T, 65536, threads_used, mark_used, &mj);
+    if (atomic_load(&mj.bad))
         goto done;
-    st.welded_vertices = weld_vertices(&k, used);
+    rc = BG_ERR_OUT_OF_MEMORY;
+    st.welded_vertices = weld_vertices(&k, used, hash, table);
     k.w = calloc((size_t)k.threads, sizeof *k.w);
     if (st.welded_vertices == (size_t)-1 || !k.w)
         goto done;
-    bgt_parallel_for(T, 8192, k.threads, classify_chunk, &k);
     size_t maxv = 0;
-    if (corners_by_vertex(&k, &maxv) != 0)
-        goto done;
+    corners_by_vertex(&k, &maxv, cnt, bs);
+    bgt_parallel_for(T, 8192, k.threads, classify_chunk, &k);
     if (alloc_workers(&k, maxv) != 0)
         goto done;
     bgt_parallel_for(nv, 4096, k.threads, neighbours_chunk, &k);
@@ -1166,17 +1263,7 @@ bg_status bgt_mikk_tangents_threads(const bgt_mikk_mesh *m, float *out, bgt_mikk
     }
     rc = BG_OK;
 done:
-    free((void *)used);
-    free(k.weld);
-    free(k.wc);
-    free(k.flags);
-    free(k.os);
-    free(k.fos);
-    free(k.fot);
-    free(k.nb);
-    free(k.grouped);
-    free(k.v_start);
-    free(k.v_corner);
+    arena_close(&ar);
     free(k.touched);
     free_workers(&k);
     if (stats)
