@@ -166,6 +166,30 @@ BG_VEC_INLINE __m256i bg_perm_bytes_of(const uint8_t *tab, __m256i idx)
     return bg_blendv8(q[0], q[1], idx); /* bit 7 */
 }
 static inline __m256i bg_perm_bytes(__m256i idx) { return bg_perm_bytes_of(bg_perm256_u8, idx); }
+/* bg_corner_code(p[i]) << 4 for every byte i of idx (low nibbles 0), from the
+ * 8 slices of bg_perm_code_hi (two codes per byte): 8 vpshufb and 8
+ * vpblendvb where a 16-slice lookup takes 16 and 15. Slice i >> 5 is picked
+ * by bits 5, 6, 7, then the nibble by bit 4. */
+BG_VEC_INLINE __m256i bg_perm_code_hi_of(const uint8_t *tab, __m256i idx)
+{
+    const __m128i *t = (const __m128i *)(const void *)tab;
+    __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
+    __m256i s6 = _mm256_add_epi8(idx, idx); /* bit 6 -> bit 7 */
+    __m256i s5 = _mm256_add_epi8(s6, s6);   /* bit 5 */
+    __m256i s4 = _mm256_add_epi8(s5, s5);   /* bit 4 */
+    __m256i q[2];
+    for (int h = 0; h < 2; h++) {
+        __m256i a[4];
+        for (int k = 0; k < 4; k++)
+            a[k] = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 4 * h + k)), lo);
+        q[h] = bg_blendv8(bg_blendv8(a[0], a[1], s5), bg_blendv8(a[2], a[3], s5), s6);
+    }
+    __m256i r = bg_blendv8(q[0], q[1], idx); /* bit 7 */
+    /* bit 4 set: the code is the low nibble, moved up (16-bit shift: the bits
+     * it carries into the next byte are below that byte's high nibble). */
+    r = bg_blendv8(r, _mm256_slli_epi16(r, 4), s4);
+    return _mm256_and_si256(r, _mm256_set1_epi8((char)0xf0));
+}
 
 /* The byte-lane chain of the AVX-512 VBMI variant (vec_avx512.h explains the
  * layout): four indices per dword, every index modulo 256 (vpaddb wraps as the
@@ -222,11 +246,13 @@ static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l,
 /* The periodic chain (bump_tmpl.c octave_cell; vec_avx512.h explains the
  * byte patterns): the x step by the pair gather, (p[X], p[X+1]) spread to
  * (p[X], p[X], p[X+1], p[X+1]), whose p[X+1] is p[X1] except where X1 = 0
- * (there p[0] is put in); the second step adds (Y, Y1, Y, Y1); the last looks
- * up the z and z + 1 corners' codes separately where a lane is on the z seam
- * (the low nibble of bg_perm_code2 is p[i]'s code) and packs them as vi_hashp
- * does. zseam as in vec_avx512.h, but the separate lookup (about 35
- * instructions) is always behind the test: with 8 lanes it is needed less
+ * (there p[0] is put in); the second step adds (Y, Y1, Y, Y1); the last gives
+ * the z corners' codes (and the z + 1 corners' off the seam) by bg_perm_code2
+ * and, where a lane is on the z seam, the z + 1 corners' codes again by a
+ * lookup of bg_perm_code_hi (8 slices: about 30 instructions, where the
+ * 16-slice lookup of bg_perm_code2 it replaced took about 50 with its
+ * packing), packed as vi_hashp does. zseam as in vec_avx512.h, but the
+ * separate lookup is always behind the test: with 8 lanes it is needed less
  * often. x0: the lanes where X1 = 0 (all ones); zb, zb1: Z and Z1 in every
  * byte; seam: some lane on the seam. */
 BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i zb1, int zseam,
@@ -253,8 +279,11 @@ BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i
     __m256i h = bg_perm_bytes_of(tc, ib);
     if (zseam && seam) {
         const __m256i lo4 = _mm256_set1_epi8(15);
-        __m256i hi = _mm256_and_si256(bg_perm_bytes_of(tc, _mm256_add_epi8(pa, zb1)), lo4);
-        h = _mm256_or_si256(_mm256_and_si256(h, lo4), _mm256_slli_epi16(hi, 4));
+        __m256i iz = _mm256_add_epi8(pa, zb1);
+        const uint8_t *ts = bg_perm_code_hi; /* zseam 3: as tp and tc above */
+        if (__builtin_constant_p(zseam) && zseam == 3)
+            __asm__("" : "+r"(ts) : "x"(iz));
+        h = _mm256_or_si256(_mm256_and_si256(h, lo4), bg_perm_code_hi_of(ts, iz));
     }
     return h;
 }
