@@ -262,32 +262,15 @@ BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i
     __m256i q = _mm256_shuffle_epi8(_mm256_i32gather_epi32(bg_perm_pair, Xc, 4), p0011);
     q = _mm256_blendv_epi8(q, _mm256_set1_epi32((int)((uint32_t)bg_perm256_u8[0] * 0x01010000u)),
                            _mm256_and_si256(x0, _mm256_set1_epi32((int)0xffff0000u)));
-    /* zseam 3 (BG_ZSEAM_GRAD2, the periodic gradient loop's zseam 2): the
-     * table addresses through an empty asm that depends on the index, so
-     * that gcc cannot hoist the 32 slice loads out of that loop, where it
-     * kept them in stack slots (a load and a store per slice per vector;
-     * the plain loops broadcast each slice from the table). The value loop
-     * and the fractal loops (runtime zseam: no test) are faster as they are. */
-    const uint8_t *tp = bg_perm256_u8, *tc = bg_perm_code2;
-    __m256i ia = _mm256_add_epi8(q, yy);
-    if (__builtin_constant_p(zseam) && zseam == 3)
-        __asm__("" : "+r"(tp) : "x"(ia));
-    __m256i pa = bg_perm_bytes_of(tp, ia);
-    __m256i ib = _mm256_add_epi8(pa, zb);
-    if (__builtin_constant_p(zseam) && zseam == 3)
-        __asm__("" : "+r"(tc) : "x"(ib));
-    __m256i h = bg_perm_bytes_of(tc, ib);
+    __m256i pa = bg_perm_bytes(_mm256_add_epi8(q, yy));
+    __m256i h = bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(pa, zb));
     if (zseam && seam) {
         const __m256i lo4 = _mm256_set1_epi8(15);
-        __m256i iz = _mm256_add_epi8(pa, zb1);
-        const uint8_t *ts = bg_perm_code_hi; /* zseam 3: as tp and tc above */
-        if (__builtin_constant_p(zseam) && zseam == 3)
-            __asm__("" : "+r"(ts) : "x"(iz));
-        h = _mm256_or_si256(_mm256_and_si256(h, lo4), bg_perm_code_hi_of(ts, iz));
+        h = _mm256_or_si256(_mm256_and_si256(h, lo4),
+                            bg_perm_code_hi_of(bg_perm_code_hi, _mm256_add_epi8(pa, zb1)));
     }
     return h;
 }
-#define BG_ZSEAM_GRAD2 3
 /* From cells given wrapped (X1 = X + 1, or 0 at the seam; lattice_per). */
 BG_VEC_INLINE vhash vi_hashp_per(vi X, vi Y, vi Z, vi X1, vi Y1, vi Z1, int zseam)
 {
