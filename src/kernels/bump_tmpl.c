@@ -1130,12 +1130,6 @@ void KFN(perturb)(bg_perturb_method m, const bg_real *nx, const bg_real *ny, con
  * octave's lattice and whether it is seeded, and unseeded with zseam 2 (small
  * z periods) apart, so that each loop body has no test of them
  * (octave_cell_k; -1: read from L). */
-/* The zseam 2 of the periodic gradient loop: a vocabulary may give it a
- * value of its own (nonzero, not -1) to compile that loop differently
- * (vec_avx2.h bg_hashp_bytes). */
-#ifndef BG_ZSEAM_GRAD2
-#define BG_ZSEAM_GRAD2 2
-#endif
 #define BG_DNOISE_KIND(LOOP)                                                                   \
     do {                                                                                       \
         int k_ = L.tiled ? L.kind[0] : OCT_PLAIN;                                              \
@@ -1167,11 +1161,16 @@ void KFN(dfractal3_grad)(const bg_fractal *f, const bg_domain *d, const bg_real 
     octlat_init(&L, f, d);
     size_t i0 = 0;
     if (f->function == BG_FUNC_NOISE) {
+        /* Pipelined wherever the hashes are packed, AVX2 included, where the
+         * plain noise3_grad is not (BG_PIPELINE_GRAD): the periodic chain is
+         * longer (the range test, the wraps, the z seam's lookup), and
+         * starting it a vector ahead made AVX2 pnoise3_grad about 8% faster
+         * (63.3 instructions per sample against 63.8 unpipelined). */
 #define DNOISE_GRAD_AT(cell, p) store_corner(noise_at(cell, 1), p, LANES, v, gx, gy, gz)
 #define DNOISE_GRAD_LOOP(kind, seeded, zs)                                                     \
     {                                                                                          \
-        const int kind_ = kind, seeded_ = seeded, zs_ = (zs) == 2 ? BG_ZSEAM_GRAD2 : (zs);     \
-        BG_PIPELINED_GRAD_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)                   \
+        const int kind_ = kind, seeded_ = seeded, zs_ = zs;                                    \
+        BG_PIPELINED_CELL(i0, BG_VEC_N(n), DNOISE_GRAD_AT, BG_CELL_DOM)                        \
         BG_DNOISE_REST(i0, BG_VEC_N(n), 1, store_corner(r, i, c, v, gx, gy, gz));              \
     }
         BG_DNOISE_KIND(DNOISE_GRAD_LOOP);

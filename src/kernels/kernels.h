@@ -38,6 +38,10 @@ static inline int bg_corner_code(int h)
 /* bg_perm_code2[i] = bg_corner_code(p[i]) | bg_corner_code(p[(i + 1) & 255]) << 4:
  * bg_perm_nib2 with each hash replaced by its corner code (vec_avx2.h). */
 extern const uint8_t bg_perm_code2[256];
+/* bg_perm_code_hi[16 k + j] = bg_corner_code(p[32 k + 16 + j]) |
+ * bg_corner_code(p[32 k + j]) << 4: every corner code in 8 slices of 16 bytes
+ * (vec_avx2.h bg_perm_code_hi). */
+extern const uint8_t bg_perm_code_hi[128];
 
 /* The seed offset of octave i along one axis (noise.h bg_domain): k / 256 with
  * k in [0, 8192) from a 32-bit mix of (seed, octave, axis); 0 for seed 0.

@@ -171,6 +171,30 @@ BG_VEC_INLINE __m256i bg_perm_bytes_of(const uint8_t *tab, __m256i idx)
     return bg_blendv8(q[0], q[1], idx); /* bit 7 */
 }
 static inline __m256i bg_perm_bytes(__m256i idx) { return bg_perm_bytes_of(bg_perm256_u8, idx); }
+/* bg_corner_code(p[i]) << 4 for every byte i of idx (low nibbles 0), from the
+ * 8 slices of bg_perm_code_hi (two codes per byte): 8 vpshufb and 8
+ * vpblendvb where a 16-slice lookup takes 16 and 15. Slice i >> 5 is picked
+ * by bits 5, 6, 7, then the nibble by bit 4. */
+BG_VEC_INLINE __m256i bg_perm_code_hi_of(const uint8_t *tab, __m256i idx)
+{
+    const __m128i *t = (const __m128i *)(const void *)tab;
+    __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
+    __m256i s6 = _mm256_add_epi8(idx, idx); /* bit 6 -> bit 7 */
+    __m256i s5 = _mm256_add_epi8(s6, s6);   /* bit 5 */
+    __m256i s4 = _mm256_add_epi8(s5, s5);   /* bit 4 */
+    __m256i q[2];
+    for (int h = 0; h < 2; h++) {
+        __m256i a[4];
+        for (int k = 0; k < 4; k++)
+            a[k] = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 4 * h + k)), lo);
+        q[h] = bg_blendv8(bg_blendv8(a[0], a[1], s5), bg_blendv8(a[2], a[3], s5), s6);
+    }
+    __m256i r = bg_blendv8(q[0], q[1], idx); /* bit 7 */
+    /* bit 4 set: the code is the low nibble, moved up (16-bit shift: the bits
+     * it carries into the next byte are below that byte's high nibble). */
+    r = bg_blendv8(r, _mm256_slli_epi16(r, 4), s4);
+    return _mm256_and_si256(r, _mm256_set1_epi8((char)0xf0));
+}
 
 /* The byte-lane chain of the AVX-512 VBMI variant (vec_avx512.h explains the
  * layout): four indices per dword, every index modulo 256 (vpaddb wraps as the
@@ -227,11 +251,13 @@ static inline vi vh_corner(const vhash *l, int k) { return _mm256_srli_epi32(*l,
 /* The periodic chain (bump_tmpl.c octave_cell; vec_avx512.h explains the
  * byte patterns): the x step by the pair gather, (p[X], p[X+1]) spread to
  * (p[X], p[X], p[X+1], p[X+1]), whose p[X+1] is p[X1] except where X1 = 0
- * (there p[0] is put in); the second step adds (Y, Y1, Y, Y1); the last looks
- * up the z and z + 1 corners' codes separately where a lane is on the z seam
- * (the low nibble of bg_perm_code2 is p[i]'s code) and packs them as vi_hashp
- * does. zseam as in vec_avx512.h, but the separate lookup (about 35
- * instructions) is always behind the test: with 8 lanes it is needed less
+ * (there p[0] is put in); the second step adds (Y, Y1, Y, Y1); the last gives
+ * the z corners' codes (and the z + 1 corners' off the seam) by bg_perm_code2
+ * and, where a lane is on the z seam, the z + 1 corners' codes again by a
+ * lookup of bg_perm_code_hi (8 slices: about 30 instructions, where the
+ * 16-slice lookup of bg_perm_code2 it replaced took about 50 with its
+ * packing), packed as vi_hashp does. zseam as in vec_avx512.h, but the
+ * separate lookup is always behind the test: with 8 lanes it is needed less
  * often. x0: the lanes where X1 = 0 (all ones); zb, zb1: Z and Z1 in every
  * byte; seam: some lane on the seam. */
 BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i zb1, int zseam,
@@ -241,29 +267,15 @@ BG_VEC_INLINE vhash bg_hashp_bytes(vi Xc, vi x0, __m256i yy, __m256i zb, __m256i
     __m256i q = _mm256_shuffle_epi8(_mm256_i32gather_epi32(bg_perm_pair, Xc, 4), p0011);
     q = _mm256_blendv_epi8(q, _mm256_set1_epi32((int)((uint32_t)bg_perm256_u8[0] * 0x01010000u)),
                            _mm256_and_si256(x0, _mm256_set1_epi32((int)0xffff0000u)));
-    /* zseam 3 (BG_ZSEAM_GRAD2, the periodic gradient loop's zseam 2): the
-     * table addresses through an empty asm that depends on the index, so
-     * that gcc cannot hoist the 32 slice loads out of that loop, where it
-     * kept them in stack slots (a load and a store per slice per vector;
-     * the plain loops broadcast each slice from the table). The value loop
-     * and the fractal loops (runtime zseam: no test) are faster as they are. */
-    const uint8_t *tp = bg_perm256_u8, *tc = bg_perm_code2;
-    __m256i ia = _mm256_add_epi8(q, yy);
-    if (__builtin_constant_p(zseam) && zseam == 3)
-        __asm__("" : "+r"(tp) : "x"(ia));
-    __m256i pa = bg_perm_bytes_of(tp, ia);
-    __m256i ib = _mm256_add_epi8(pa, zb);
-    if (__builtin_constant_p(zseam) && zseam == 3)
-        __asm__("" : "+r"(tc) : "x"(ib));
-    __m256i h = bg_perm_bytes_of(tc, ib);
+    __m256i pa = bg_perm_bytes(_mm256_add_epi8(q, yy));
+    __m256i h = bg_perm_bytes_of(bg_perm_code2, _mm256_add_epi8(pa, zb));
     if (zseam && seam) {
         const __m256i lo4 = _mm256_set1_epi8(15);
-        __m256i hi = _mm256_and_si256(bg_perm_bytes_of(tc, _mm256_add_epi8(pa, zb1)), lo4);
-        h = _mm256_or_si256(_mm256_and_si256(h, lo4), _mm256_slli_epi16(hi, 4));
+        h = _mm256_or_si256(_mm256_and_si256(h, lo4),
+                            bg_perm_code_hi_of(bg_perm_code_hi, _mm256_add_epi8(pa, zb1)));
     }
     return h;
 }
-#define BG_ZSEAM_GRAD2 3
 /* From cells given wrapped (X1 = X + 1, or 0 at the seam; lattice_per). X
  * (the gather's index) and Y (bytes 0 and 1 of Y | Y1 << 8) must lie in
  * [0, 255]; of Z, X1, Y1 and Z1 only the low byte counts (X1 = 256, X = 255:

@@ -27,6 +27,11 @@ static void check_tables(void)
             fail("bg_perm_nib2[i] != (p[i] & 15) | (p[i + 1] & 15) << 4");
         if (i < 256 && bg_perm_code2[i] != (bg_corner_code(p) | bg_corner_code(bg_perm512[i + 1]) << 4))
             fail("bg_perm_code2[i] != code(p[i]) | code(p[i + 1]) << 4");
+        if (i < 256) {
+            int e = bg_perm_code_hi[(i >> 5) * 16 + (i & 15)];
+            if ((i & 16 ? e & 15 : e >> 4) != bg_corner_code(p))
+                fail("bg_perm_code_hi: code(p[i]) not in nibble (i & 16 ? low : high) of entry 16 (i >> 5) + (i & 15)");
+        }
     }
     /* The corner code against Perlin's grad, bit for bit, on offsets that
      * include both zeros: first/second axis and their signs (kernels.h). */
