@@ -155,18 +155,32 @@ BG_VEC_INLINE __m256i bg_perm_slice2(const __m128i *t, int k, __m256i lo, __m256
     __m256i b = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 2 * k + 1)), lo);
     return bg_blendv8(a, b, s4);
 }
+/* The selectors of a byte lookup by vpshufb slices: the low nibble of each
+ * index byte, and its bits 6, 5 and 4 moved to bit 7, where vpblendvb reads
+ * them (bit 7 is idx itself). */
+typedef struct bg_bytesel {
+    __m256i lo, s6, s5, s4;
+} bg_bytesel;
+BG_VEC_INLINE bg_bytesel bg_bytesel_of(__m256i idx)
+{
+    bg_bytesel b;
+    b.lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
+    b.s6 = _mm256_add_epi8(idx, idx); /* bit 6 -> bit 7 */
+    b.s5 = _mm256_add_epi8(b.s6, b.s6); /* bit 5 */
+    b.s4 = _mm256_add_epi8(b.s5, b.s5); /* bit 4 */
+    return b;
+}
 BG_VEC_INLINE __m256i bg_perm_bytes_of(const uint8_t *tab, __m256i idx)
 {
     const __m128i *t = (const __m128i *)(const void *)tab;
-    __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
-    __m256i s6 = _mm256_add_epi8(idx, idx); /* bit 6 -> bit 7 */
-    __m256i s5 = _mm256_add_epi8(s6, s6);   /* bit 5 */
-    __m256i s4 = _mm256_add_epi8(s5, s5);   /* bit 4 */
+    const bg_bytesel b = bg_bytesel_of(idx);
     __m256i q[2];
     for (int h = 0; h < 2; h++) {
-        __m256i p0 = bg_blendv8(bg_perm_slice2(t, 4 * h, lo, s4), bg_perm_slice2(t, 4 * h + 1, lo, s4), s5);
-        __m256i p1 = bg_blendv8(bg_perm_slice2(t, 4 * h + 2, lo, s4), bg_perm_slice2(t, 4 * h + 3, lo, s4), s5);
-        q[h] = bg_blendv8(p0, p1, s6);
+        __m256i p0 = bg_blendv8(bg_perm_slice2(t, 4 * h, b.lo, b.s4),
+                                bg_perm_slice2(t, 4 * h + 1, b.lo, b.s4), b.s5);
+        __m256i p1 = bg_blendv8(bg_perm_slice2(t, 4 * h + 2, b.lo, b.s4),
+                                bg_perm_slice2(t, 4 * h + 3, b.lo, b.s4), b.s5);
+        q[h] = bg_blendv8(p0, p1, b.s6);
     }
     return bg_blendv8(q[0], q[1], idx); /* bit 7 */
 }
@@ -178,21 +192,18 @@ static inline __m256i bg_perm_bytes(__m256i idx) { return bg_perm_bytes_of(bg_pe
 BG_VEC_INLINE __m256i bg_perm_code_hi_of(const uint8_t *tab, __m256i idx)
 {
     const __m128i *t = (const __m128i *)(const void *)tab;
-    __m256i lo = _mm256_and_si256(idx, _mm256_set1_epi8(15));
-    __m256i s6 = _mm256_add_epi8(idx, idx); /* bit 6 -> bit 7 */
-    __m256i s5 = _mm256_add_epi8(s6, s6);   /* bit 5 */
-    __m256i s4 = _mm256_add_epi8(s5, s5);   /* bit 4 */
+    const bg_bytesel b = bg_bytesel_of(idx);
     __m256i q[2];
     for (int h = 0; h < 2; h++) {
         __m256i a[4];
         for (int k = 0; k < 4; k++)
-            a[k] = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 4 * h + k)), lo);
-        q[h] = bg_blendv8(bg_blendv8(a[0], a[1], s5), bg_blendv8(a[2], a[3], s5), s6);
+            a[k] = _mm256_shuffle_epi8(_mm256_broadcastsi128_si256(_mm_loadu_si128(t + 4 * h + k)), b.lo);
+        q[h] = bg_blendv8(bg_blendv8(a[0], a[1], b.s5), bg_blendv8(a[2], a[3], b.s5), b.s6);
     }
     __m256i r = bg_blendv8(q[0], q[1], idx); /* bit 7 */
     /* bit 4 set: the code is the low nibble, moved up (16-bit shift: the bits
      * it carries into the next byte are below that byte's high nibble). */
-    r = bg_blendv8(r, _mm256_slli_epi16(r, 4), s4);
+    r = bg_blendv8(r, _mm256_slli_epi16(r, 4), b.s4);
     return _mm256_and_si256(r, _mm256_set1_epi8((char)0xf0));
 }
 
