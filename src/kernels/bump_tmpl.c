@@ -394,6 +394,7 @@ typedef struct octlat {
     int seeded; /* offsets to add (seed != 0); adding +0 would give the same bits */
     int carry;  /* octave_cell_carry may carry the reduced cells (float only) */
     bg_real carry_lim; /* its range: every |x| below (octave 0's coordinates) */
+    bg_real cinv[3];   /* its 1/P of octave 0, or 0 (untiled) */
 } octlat;
 static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *d)
 {
@@ -426,15 +427,30 @@ static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *
         L->kind[i] = (signed char)(big ? OCT_PLAIN : pow2 ? OCT_POW2 : OCT_ANY);
         freq *= lac;
     }
-    /* octave_cell_carry: an unseeded fractal with lacunarity 2 whose octaves
-     * are OCT_ANY (a period that is not a power of two; then every octave's
-     * is not). lim = 2^22 / 2^(octaves - 1) - 1, exact. */
+    /* octave_cell_carry: an unseeded fractal with an integer lacunarity L
+     * (bg_domain_validate's rule for a tiled domain) where some octave is
+     * OCT_ANY (a period that is not a power of two). lim = floor(2^22 /
+     * L^(octaves - 1)) - 1: every octave's |q_i| < 2^22. An L that is not a
+     * power of two also needs every tiled period P L^i <= 2^22. */
     L->carry = 0, L->carry_lim = 0;
 #ifndef BG_SCALAR_DOUBLE
-    if (L->tiled && !L->seeded && octaves >= 2 && octaves <= 22 && lac == 2 &&
-        L->kind[0] == OCT_ANY) {
+    int any = 0;
+    for (int i = 0; i < octaves; i++)
+        any |= L->kind[i] == OCT_ANY;
+    /* lac <= 2^24 before the conversion (a seed alone admits any lacunarity) */
+    int64_t li = L->tiled && lac <= (bg_real)16777216 ? (int64_t)lac : 0, top = 1;
+    int ok = !L->seeded && octaves >= 2 && any && li >= 1 && (bg_real)li == lac;
+    for (int i = 1; ok && i < octaves; i++)
+        ok = (top *= li) <= 2097152; /* L^(octaves - 1) <= 2^21 */
+    int pow2 = (li & (li - 1)) == 0;
+    for (int i = 0; ok && !pow2 && i < octaves; i++)
+        for (int a = 0; a < 3; a++)
+            ok &= !d->period[a] || L->per[i][a] <= (bg_real)4194304;
+    if (ok) {
+        for (int a = 0; a < 3; a++)
+            L->cinv[a] = d->period[a] ? L->inv[0][a] : 0;
         L->carry = 1;
-        L->carry_lim = (bg_real)(4194304 >> (octaves - 1)) - 1;
+        L->carry_lim = (bg_real)(4194304 / top) - 1;
     }
 #endif
 }
@@ -556,21 +572,26 @@ BG_INLINE vcell octave_cell(const octlat *L, int i, vf x, vf y, vf z, bg_real fr
 }
 
 /* The reduced cells carried from octave to octave (the fractal loops; octlat's
- * carry: no seed, lacunarity 2, OCT_ANY octaves). Octave i's point is q_i =
- * 2^i q_0 exactly (freq is 2^i, the product exact), so floor(q_{i+1}) =
- * 2 floor(q_i) + b with b in {0, 1}. With r_i = floor(q_i) mod P_i in [0, P_i)
- * and P_{i+1} = 2 P_i, r_{i+1} = 2 r_i + b: the offset n_i = r_i - floor(q_i)
- * (a multiple of P_i) doubles from octave to octave, n_i = 2^i n_0 = freq n_0.
- * So octave 0 takes n_0 = -P floor((fl + 1/2) / P) by lattice_per's quotient
- * (exact below 2^22) and every octave's cell is r_i = floor(q_i) + freq n_0,
- * one fused multiply-add with an exact product and an exact sum (integers
- * below 2^25), converted, and the next corner's vi_wrap1 of it: the same r
- * and r + 1 (or 0 at the seam) as lattice_per's where that is exact,
- * |floor(q_i)| < 2^22 in every octave. Octave 0 tests that for the whole
- * vector once (|q_0| < carry_lim, false for NaN); a vector outside takes
- * octave_cell in every octave. An untiled axis (period 256 in every octave,
- * not 256 freq) still gets a multiple of 256 for freq n_0, and so its cells
- * modulo 256, all the hash reads. */
+ * carry: no seed, an integer lacunarity L, some OCT_ANY octave). Octave i's
+ * point is q_i = L^i q_0 (freq = L^i, exact), rounded, and its period P_i =
+ * P L^i. Octave 0 takes n_0 = -P floor((fl + 1/2) / P) by lattice_per's
+ * quotient (exact below 2^22), so that q_0 + n_0 lies in [0, P). Then L^i n_0
+ * is a multiple of P_i, and every octave's cell is r_i = floor(q_i) + freq n_0,
+ * one fused multiply-add with an exact product (n_0 times a power of two, or
+ * an integer below 2^23 where P_i <= 2^22) and an exact sum, converted, and
+ * the next corner's vi_wrap1 of it: the same r and r + 1 (or 0 at the seam) as
+ * lattice_per's where that is exact, |floor(q_i)| < 2^22 in every octave.
+ * r_i lies in [0, P_i): L^i q_0 does, and its rounding q_i cannot reach the
+ * integer M = P_i - freq n_0 from below, as q_0 < M / L^i is at least half an
+ * ulp of q_0 below that integer (a whole one unless q_0 is a power of two,
+ * whose product with L^i is exact), which L^i scales to more than half an
+ * ulp of L^i q_0 unless L^i is a power of two (then q_i is exact). Octave 0
+ * tests the range for the whole vector once (|q_0| < carry_lim, false for
+ * NaN); a vector outside takes octave_cell in every octave. An untiled axis
+ * (period 256 in every octave) needs no reduction, as the hash reads its
+ * cells modulo 256: its n_0 is 0 (cinv 0), r_i = floor(q_i), and vi_wrap1
+ * with 255 gives r_i + 1 modulo 256. (Reducing it with P = 256 would not do:
+ * its r_i, below 256 L^i, outgrows the float's integers at deep octaves.) */
 #ifndef BG_SCALAR_DOUBLE
 typedef struct octcarry {
     vf n0[3];
@@ -593,7 +614,7 @@ BG_INLINE vcell octave_cell_carry(const octlat *L, int i, vf x, vf y, vf z, bg_r
     for (int a = 0; a < 3; a++) {
         vf fl = vf_floor(q[a]);
         if (i == 0) {
-            vf qq = vf_floor(vf_mul(vf_add(fl, vf_set1((bg_real)0.5)), vf_set1(L->inv[0][a])));
+            vf qq = vf_floor(vf_mul(vf_add(fl, vf_set1((bg_real)0.5)), vf_set1(L->cinv[a])));
             K->n0[a] = vf_mul(qq, vf_set1(-L->per[0][a]));
         }
         X[a] = vi_from_vf(vf_fma_exact(K->n0[a], fq, fl));

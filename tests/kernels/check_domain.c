@@ -4,6 +4,8 @@
  *    bit (value, analytic and central gradients, the fused height path), on
  *    hard coordinates and every tail length;
  *  - periods of 256 and seed 0 are Perlin's noise itself, bit for bit;
+ *  - a point's result does not depend on the points sharing its vector: the
+ *    cells carried from octave to octave equal the quotient's;
  *  - f(p + P e_a) == f(p) bit for bit (value and gradient), float and double,
  *    for noise, fBm and turbulence with integer lacunarity, seeded or not;
  *  - value and gradient are continuous across the seam (both sides of the
@@ -119,6 +121,69 @@ static void check_isa(const bg_kernel_table *t)
         t->dfractal3_grad(f, &d, x, y, z, N, v1, g1[0], g1[1], g1[2]);
         int ok = same_vg(N, v0, g0[0], g0[1], g0[2], v1, g1[0], g1[1], g1[2]);
         CHECK(ok, "period 256 is Perlin's noise", t->name);
+    }
+}
+
+/* The cells carried from octave to octave (bump_tmpl.c octave_cell_carry)
+ * equal the quotient's (lattice_per): a batch of points within the carried
+ * range against the same batch with a huge coordinate in every 16th point,
+ * which sends each vector holding one through the quotient in every octave.
+ * Unseeded fractals with lacunarity 1 to 5 (power-of-two and not), periods
+ * that are not powers of two, deep octaves and untiled axes. The scalar table
+ * has one lane, so only the vector tables compare anything. */
+static void check_carry(const bg_kernel_table *t)
+{
+    enum { M = 64 };
+    static const float lacs[] = {2, 3, 1, 4, 5};
+    static const int pers[] = {0, 3, 5, 7, 10, 12, 16, 100, 255};
+    float x[M], y[M], z[M], xq[M], v0[M], g0[3][M], v1[M], g1[3][M];
+    for (int round = 0; round < 80; round++) {
+        bg_fractal f = {(round & 1) ? BG_FUNC_FBM : BG_FUNC_TURBULENCE, 2, lacs[round % 5], 0.5f};
+        bg_domain d = {{0, 0, 0}, 0};
+        for (int a = 0; a < 3; a++)
+            d.period[a] = pers[rng_u64() % (sizeof pers / sizeof pers[0])];
+        d.period[0] = 10 + (int)(rng_u64() % 3); /* one period not a power of two */
+        if (round < 20)
+            d.period[1] = 0; /* an untiled axis at deep octaves */
+        /* as many octaves as the domain allows, up to 20 */
+        for (int o = 20; o >= 2; o--) {
+            f.octaves = o;
+            if (bg_domain_validate(&f, &d) == BG_OK)
+                break;
+        }
+        double top = pow(f.lacunarity, f.octaves - 1), lim = floor(4194304.0 / top) - 1;
+        if (lim < 1)
+            lim = 1;
+        for (int i = 0; i < M; i++) {
+            double r = (i & 1) ? lim : (lim < 4 ? lim : 4); /* small points too */
+            x[i] = rng_range(-r, r), y[i] = rng_range(-r, r), z[i] = rng_range(-r, r);
+            if (i % 4 == 2) {
+                /* just below a multiple of the period: x L^i can round up to
+                 * the next period's start (CARRY_TOP's r_i = P_i) */
+                int m = (int)(rng_u64() % 9) - 4, k = 1 + (int)(rng_u64() % 3);
+                float e = (float)d.period[0] * (float)m;
+                while (k--)
+                    e = nextafterf(e, -INFINITY);
+                if (fabs(e) < lim)
+                    x[i] = e;
+            }
+            xq[i] = i % 16 == 15 ? 3e7f : x[i];
+        }
+        t->dfractal3_grad(&f, &d, x, y, z, M, v0, g0[0], g0[1], g0[2]);
+        t->dfractal3_grad(&f, &d, xq, y, z, M, v1, g1[0], g1[1], g1[2]);
+        int ok = 1;
+        for (int i = 0; i < M; i++)
+            if (i % 16 != 15)
+                ok &= same_vg(1, v0 + i, g0[0] + i, g0[1] + i, g0[2] + i, v1 + i, g1[0] + i,
+                              g1[1] + i, g1[2] + i);
+        CHECK(ok, "carried cells equal the quotient's (value and gradient)", t->name);
+        t->dfractal3(&f, &d, xq, y, z, M, v1);
+        t->dfractal3(&f, &d, x, y, z, M, v0);
+        ok = 1;
+        for (int i = 0; i < M; i++)
+            if (i % 16 != 15)
+                ok &= same_bits(v0[i], v1[i]);
+        CHECK(ok, "carried cells equal the quotient's (value)", t->name);
     }
 }
 
@@ -309,6 +374,7 @@ int main(void)
         nt += bg_kernels_variants((bg_isa)i, tabs + nt, BG_ISA_COUNT + 4 - nt);
     for (int i = 0; i < nt; i++) {
         check_isa(tabs[i]);
+        check_carry(tabs[i]);
         printf("%-12s domain kernels checked\n", tabs[i]->name);
     }
     check_periodic();
