@@ -21,7 +21,7 @@ ir() {
 if [ "$1" = "--bench" ]; then
     exe=$2
     isas=${3:-"scalar sse2 avx2"}
-    kernels=${4:-"noise3 noise3_grad fbm3 fbm3_grad turbulence3_grad noise3_point noise3_grad_point fbm3_point fbm3_grad_point noise3_batch1_point noise3_n1 noise3_n4 noise3_n8 noise3_n16 noise3_n64 noise3_n256 noise3_grid fbm3_grid fbm3_grad_grid pnoise3 pnoise3_grad pfbm3 pfbm3_grad fbm3_seed_grad pfbm3_grad_xy pfbm3_grad_p10"}
+    kernels=${4:-"noise3 noise3_grad fbm3 fbm3_grad turbulence3_grad noise3_point noise3_grad_point fbm3_point fbm3_grad_point noise3_batch1_point noise3_n1 noise3_n4 noise3_n8 noise3_n16 noise3_n64 noise3_n256 noise3_grid fbm3_grid fbm3_grad_grid pnoise3 pnoise3_grad pfbm3 pfbm3_grad fbm3_seed_grad pfbm3_grad_xy pfbm3_grad_p10 fbm3_grad_l3 pfbm3_grad_l3"}
     n=${5:-16384}
     # The per-point and grid rows call the public entry points, which run at the
     # active ISA: measured once, without --isa, at the level the row reports

@@ -19,7 +19,7 @@ OURS = ["noise3", "noise3_grad", "fbm3_grad", "turbulence3_grad", "turbulence3_g
         "noise3_batch1_point", "noise3_n1", "noise3_n4", "noise3_n8", "noise3_n16", "noise3_n64", "noise3_n256",
         "noise3_grid", "fbm3_grid", "fbm3_grad_grid", "stream3",
         "pnoise3", "pnoise3_grad", "pfbm3", "pfbm3_grad", "fbm3_seed_grad", "pfbm3_grad_xy",
-        "pfbm3_grad_p10"]
+        "pfbm3_grad_p10", "fbm3_grad_l3", "pfbm3_grad_l3"]
 # Per-point and grid rows call the public entry points, which run at the active
 # ISA: one ISA for all of them (the highest one of the batch rows), one row per
 # thread count.

@@ -51,6 +51,8 @@ enum {
     K_SFBM3_GRAD,
     K_PFBM3_GRAD_XY, /* periods (16, 16, 0): a tileable texture's x and y */
     K_PFBM3_GRAD_P10, /* periods (10, 10, 10): not a power of two (the float reduction) */
+    K_FBM3_GRAD_L3,   /* plain 6-octave fBm with lacunarity 3 (no domain) */
+    K_PFBM3_GRAD_L3,  /* lacunarity 3, periods (10, 10, 10): periods 10 3^i */
     /* The mesh rows (mesh_rows.c): whole calls on a generated mesh, threaded
      * inside, measured once; selected only by name (not by "all" or "ours"). */
     K_MIKK,      /* mikkTSpace tangents: samples are triangles */

@@ -49,6 +49,8 @@ static const kernel_info kernels[K_COUNT] = {
     {"fbm3_seed_grad", BGT_PEER_FBM},       /* 6-octave fBm, seed 1, + analytic gradient */
     {"pfbm3_grad_xy", BGT_PEER_FBM},        /* pfbm3_grad with periods (16, 16, 0) */
     {"pfbm3_grad_p10", BGT_PEER_FBM},       /* pfbm3_grad with periods (10, 10, 10) */
+    {"fbm3_grad_l3", BGT_PEER_FBM},         /* fbm3_grad with lacunarity 3 */
+    {"pfbm3_grad_l3", BGT_PEER_FBM},        /* ... and periods (10, 10, 10) */
     {"mikktspace", -1},                     /* mikkTSpace tangents: triangles/s */
     {"mesh_bake", -1},                      /* the whole normal-map bake: texels/s */
 };
@@ -56,7 +58,8 @@ static const kernel_info kernels[K_COUNT] = {
 /* The domains of the rows above. */
 static const bg_domain bench_tiled = {{16, 16, 16}, 0}, bench_seeded = {{0, 0, 0}, 1},
                        bench_tiled_xy = {{16, 16, 0}, 0}, bench_tiled_10 = {{10, 10, 10}, 0};
-static const bg_fractal bench_noise = {BG_FUNC_NOISE, 1, 2.0f, 0.5f};
+static const bg_fractal bench_noise = {BG_FUNC_NOISE, 1, 2.0f, 0.5f},
+                        bench_fbm_l3 = {BG_FUNC_FBM, BG_DEFAULT_OCTAVES, 3.0f, 0.5f};
 
 const char *const bgt_bench_peer_op_names[BGT_PEER_OP_COUNT] = {"value", "fbm", "grad_central"};
 const char *const bgt_bench_peer_libraries[3] = {"stb_perlin", "libnoise", "glm"};
@@ -197,6 +200,10 @@ void bench_job_run(const bench_job *j, size_t b, size_t e)
     case K_PFBM3_GRAD_P10:
         t->dfractal3_grad(&j->fbm, j->kernel == K_PFBM3_GRAD_XY ? &bench_tiled_xy : &bench_tiled_10,
                           px, py, pz, n, v, ox, oy, oz);
+        break;
+    case K_FBM3_GRAD_L3: t->fractal3_grad(&bench_fbm_l3, px, py, pz, n, v, ox, oy, oz); break;
+    case K_PFBM3_GRAD_L3:
+        t->dfractal3_grad(&bench_fbm_l3, &bench_tiled_10, px, py, pz, n, v, ox, oy, oz);
         break;
     case K_PERTURB_HEIGHT:
         t->perturb_height(&j->height, BG_PERTURB_SURFGRAD, px, py, pz, d->nx + b, d->ny + b,
