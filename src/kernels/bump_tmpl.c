@@ -442,8 +442,8 @@ static inline void octlat_init(octlat *L, const bg_fractal *f, const bg_domain *
     int ok = !L->seeded && octaves >= 2 && any && li >= 1 && (bg_real)li == lac;
     for (int i = 1; ok && i < octaves; i++)
         ok = (top *= li) <= 2097152; /* L^(octaves - 1) <= 2^21 */
-    int pow2 = (li & (li - 1)) == 0;
-    for (int i = 0; ok && !pow2 && i < octaves; i++)
+    int lpow2 = (li & (li - 1)) == 0;
+    for (int i = 0; ok && !lpow2 && i < octaves; i++)
         for (int a = 0; a < 3; a++)
             ok &= !d->period[a] || L->per[i][a] <= (bg_real)4194304;
     if (ok) {
